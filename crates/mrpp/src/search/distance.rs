@@ -1,0 +1,56 @@
+//! Breadth-first distance tables on unit-cost graphs.
+
+use std::collections::VecDeque;
+
+use crate::graph::{Graph, VertexId};
+
+/// Distance of an unreachable vertex.
+pub const UNREACHABLE: u32 = u32::MAX;
+
+/// Hop distance from `source` to every vertex, skipping vertices for which `blocked` is true
+/// (the source itself is never skipped).
+pub fn bfs_distances_avoiding(
+    g: &Graph,
+    source: VertexId,
+    blocked: impl Fn(VertexId) -> bool,
+) -> Vec<u32> {
+    let mut dist = vec![UNREACHABLE; g.num_vertices()];
+    let mut queue = VecDeque::new();
+    dist[source as usize] = 0;
+    queue.push_back(source);
+    while let Some(u) = queue.pop_front() {
+        let d = dist[u as usize] + 1;
+        for &v in g.neighbors(u) {
+            if dist[v as usize] == UNREACHABLE && !blocked(v) {
+                dist[v as usize] = d;
+                queue.push_back(v);
+            }
+        }
+    }
+    dist
+}
+
+/// Hop distance from `source` to every vertex.
+pub fn bfs_distances(g: &Graph, source: VertexId) -> Vec<u32> {
+    bfs_distances_avoiding(g, source, |_| false)
+}
+
+/// One distance table per agent goal: `tables[i][v]` = distance from `v` to goal `i`.
+pub fn goal_distance_tables(g: &Graph, goals: &[VertexId]) -> Vec<Vec<u32>> {
+    goals.iter().map(|&goal| bfs_distances(g, goal)).collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn path_graph_distances() {
+        let g = Graph::from_edges(4, &[(0, 1), (1, 2)]);
+        assert_eq!(bfs_distances(&g, 0), vec![0, 1, 2, UNREACHABLE]);
+        assert_eq!(
+            bfs_distances_avoiding(&g, 0, |v| v == 1),
+            vec![0, UNREACHABLE, UNREACHABLE, UNREACHABLE]
+        );
+    }
+}

@@ -1,0 +1,8 @@
+//! The shared single-agent searches. Planners call these; they do not carry private copies.
+//!
+//! - [`distance`]: BFS distance tables (the exact heuristic of HCA*/WHCA*, PIBT, ...).
+//! - [`spacetime`]: a reservation table and space-time A* over `(vertex, time)`, with an optional
+//!   window (CA*, HCA*, WHCA*, and H*'s repair step).
+
+pub mod distance;
+pub mod spacetime;
