@@ -17,3 +17,5 @@ pub use instance::Instance;
 pub use plan::{GoalSemantics, Metrics, Plan, ValidateOptions, Violation};
 pub mod search;
 pub mod solve;
+pub mod grid_mapf;
+pub mod io;
