@@ -19,3 +19,4 @@ pub mod search;
 pub mod solve;
 pub mod grid_mapf;
 pub mod io;
+pub mod experiments;

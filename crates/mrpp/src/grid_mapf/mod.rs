@@ -1,6 +1,9 @@
 //! Planners for MAPF on 4-connected grids (they work on any [`crate::Graph`] with coordinates):
 //! H* (the paper's hybrid greedy planner) and the cooperative A* family (CA*, HCA*, WHCA*).
 
+pub mod corridors;
+pub mod hstar;
+
 use crate::error::{Error, Result};
 use crate::solve::Planner;
 

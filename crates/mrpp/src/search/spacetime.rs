@@ -126,7 +126,9 @@ pub fn space_time_astar(q: &Query, res: &Reservations) -> Search {
         parent: u32,
     }
     let mut nodes: Vec<Node> = Vec::new();
-    let mut open: BinaryHeap<(Reverse<u32>, u32, Reverse<u32>, u32, bool)> = BinaryHeap::new();
+    // (f, g, insertion order, node index, terminal): max-heap on lower f, then higher g.
+    type Entry = (Reverse<u32>, u32, Reverse<u32>, u32, bool);
+    let mut open: BinaryHeap<Entry> = BinaryHeap::new();
     let mut best_g: FxHashMap<(VertexId, u32), u32> = FxHashMap::default();
     let mut closed: FxHashSet<(VertexId, u32)> = FxHashSet::default();
     let mut counter = 0u32;
@@ -155,7 +157,7 @@ pub fn space_time_astar(q: &Query, res: &Reservations) -> Search {
             continue;
         }
         expansions += 1;
-        if expansions % 1024 == 0 && q.deadline.expired() {
+        if expansions.is_multiple_of(1024) && q.deadline.expired() {
             return Search::TimedOut;
         }
         if let Some(end) = end_time {

@@ -1,0 +1,3 @@
+//! Paper tables and figures, each a function returning rows (the CLI writes files and draws).
+
+pub mod hstar_instances;

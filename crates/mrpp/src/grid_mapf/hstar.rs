@@ -1,0 +1,549 @@
+//! H*: hybrid greedy planner of Kopacz, García González, Chira and Villar (IEEE Latin America
+//! Transactions), `shared/papers/hstar-hybrid-greedy-grid.md` §IV.
+//!
+//! The paper's steps, in order, each a function named after it:
+//! 1. [`greedy_path_search`] (§IV-A, Algorithm 1 applied to all robots step by step): at every time
+//!    step each robot not on its goal tries each free neighbour `n_k`, completes `[c_r, n_k]` to its
+//!    target with A* on the corridor-compressed graph ([`Corridors`]) avoiding every node another
+//!    robot currently occupies and its own cell, and moves to the `n_k` of the shortest route.
+//! 2. [`loop_elimination`] (Algorithm 2): repeated cells cut out of each path.
+//! 3. [`collision_elimination`] (Algorithms 3–4): while a conflict exists, the first one is resolved
+//!    by inserting `i = 1, 2, ...` halts at position `t - i` of the first robot, else of the second.
+//!
+//! Where the paper is silent, the choices (all options of [`HStar`]):
+//! - Neighbour order and ties: neighbours are tried up, right, down, left and the first strictly
+//!   shortest wins (Algorithm 1's `shorter than`), so H* is deterministic as the paper's integer
+//!   Table II values suggest; [`TieBreak::Random`] picks uniformly among the shortest (seeded).
+//! - Update order: [`GreedyUpdate::Sequential`] (default) moves robots one after the other in id
+//!   order, each seeing the positions the earlier robots just took; `Simultaneous` lets all robots
+//!   decide on the positions at `t` (the paths may then hold conflicts for step 3 to resolve).
+//! - A robot on its goal stays there; a robot with no usable neighbour (every route blocked) waits.
+//! - The greedy stage stops when every robot is on its goal, when a joint configuration repeats
+//!   (the stage is deterministic, so it would cycle for ever), or after `max_greedy_steps`.
+//! - Algorithm 4 may find no number of halts that clears a conflict; Algorithm 3 would then loop
+//!   for ever. We stop at the first such conflict, or after `max_resolution_rounds` resolutions.
+//!
+//! [`Variant::Paper`] runs only those steps and reports "not solved" when a robot is short of its
+//! goal or a conflict is left. The authors' public code ends that way on most of the paper's own
+//! instances, while the paper reports collision-free plans for all of them. [`Variant::Repaired`]
+//! (default) finishes the job with [`reservation_repair`], our documented extension: the robots
+//! left short of their goals or in conflict are re-planned with space-time A* against a reservation
+//! table holding every other robot's H* path; a robot that finds no path is promoted to the front
+//! and the round is planned again from scratch in that order (prioritised planning with restarts),
+//! a bounded number of times.
+
+use rand::SeedableRng;
+use rand::seq::IndexedRandom;
+use rand_chacha::ChaCha8Rng;
+use rustc_hash::FxHashSet;
+
+use crate::graph::{Graph, VertexId};
+use crate::grid_mapf::corridors::{Corridors, NodeId};
+use crate::instance::Instance;
+use crate::plan::{Plan, first_conflict, position};
+use crate::search::distance::{UNREACHABLE, goal_distance_tables};
+use crate::search::spacetime::{Query, Reservations, Search, space_time_astar};
+use crate::solve::{Deadline, Planner, SolveOptions, Unsolved};
+
+/// Which steps run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Variant {
+    /// Only the paper's steps; "not solved" when they fall short.
+    Paper,
+    /// The paper's steps, then [`reservation_repair`] for whatever they leave unresolved.
+    Repaired,
+}
+
+/// How the greedy stage moves robots within one time step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GreedyUpdate {
+    Sequential,
+    Simultaneous,
+}
+
+/// How Algorithm 1 breaks ties between equally short routes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TieBreak {
+    /// The first neighbour in the order up, right, down, left.
+    First,
+    /// A uniformly random one among the shortest (seeded by the run's seed).
+    Random,
+}
+
+/// The H* planner and its options.
+#[derive(Debug, Clone)]
+pub struct HStar {
+    pub variant: Variant,
+    pub update: GreedyUpdate,
+    pub tie_break: TieBreak,
+    /// Cap on greedy time steps; `None` = 4·|V| + 100.
+    pub max_greedy_steps: Option<usize>,
+    /// Cap on the number of conflicts Algorithm 3 resolves.
+    pub max_resolution_rounds: usize,
+    /// Restarts of the repair step (each puts a failing robot first).
+    pub max_repair_rounds: usize,
+}
+
+impl Default for HStar {
+    fn default() -> Self {
+        HStar {
+            variant: Variant::Repaired,
+            update: GreedyUpdate::Sequential,
+            tie_break: TieBreak::First,
+            max_greedy_steps: None,
+            max_resolution_rounds: 10_000,
+            max_repair_rounds: 16,
+        }
+    }
+}
+
+impl HStar {
+    pub fn paper() -> Self {
+        HStar {
+            variant: Variant::Paper,
+            ..Self::default()
+        }
+    }
+}
+
+/// How the greedy stage ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GreedyEnd {
+    AllOnGoal,
+    /// A joint configuration repeated: the deterministic stage would cycle.
+    Cycle,
+    StepCap,
+}
+
+/// Step 1: Algorithm 1 applied to all robots, step by step. Returns one path per robot (possibly
+/// short of its goal) and how the stage ended.
+pub fn greedy_path_search(
+    g: &Graph,
+    corridors: &Corridors,
+    inst: &Instance,
+    cfg: &HStar,
+    rng: &mut ChaCha8Rng,
+    deadline: Deadline,
+) -> Result<(Vec<Vec<VertexId>>, GreedyEnd), Unsolved> {
+    let n = inst.num_agents();
+    let mut pos = inst.starts.clone();
+    let mut paths: Vec<Vec<VertexId>> = pos.iter().map(|&s| vec![s]).collect();
+    // How many robots stand on each compressed node.
+    let mut occupancy = vec![0u32; corridors.num_nodes()];
+    for &p in &pos {
+        occupancy[corridors.node_of(p) as usize] += 1;
+    }
+    let cap = cfg.max_greedy_steps.unwrap_or(4 * g.num_vertices() + 100);
+    let mut seen: FxHashSet<Vec<VertexId>> = FxHashSet::default();
+    seen.insert(pos.clone());
+    let mut choices: Vec<VertexId> = Vec::with_capacity(4);
+    for _step in 0..cap {
+        if pos.iter().zip(&inst.goals).all(|(p, g)| p == g) {
+            return Ok((paths, GreedyEnd::AllOnGoal));
+        }
+        if deadline.expired() {
+            return Err(Unsolved::TimeLimit);
+        }
+        let decided_on = occupancy.clone();
+        let mut next = pos.clone();
+        for r in 0..n {
+            let cur = pos[r];
+            let goal = inst.goals[r];
+            if cur == goal {
+                continue;
+            }
+            let occ: &[u32] = match cfg.update {
+                GreedyUpdate::Sequential => &occupancy,
+                GreedyUpdate::Simultaneous => &decided_on,
+            };
+            let own = corridors.node_of(cur);
+            // A node is occupied by others if someone other than r stands on it.
+            let blocked = |node: NodeId| occ[node as usize] > u32::from(node == own);
+            let mut best = u32::MAX;
+            choices.clear();
+            for &nk in g.neighbors(cur) {
+                if blocked(corridors.node_of(nk)) {
+                    continue;
+                }
+                let Some(rest) = corridors.route_length(g, nk, goal, cur, &blocked) else {
+                    continue;
+                };
+                let len = 1 + rest;
+                if len < best {
+                    best = len;
+                    choices.clear();
+                    choices.push(nk);
+                } else if len == best && cfg.tie_break == TieBreak::Random {
+                    choices.push(nk);
+                }
+            }
+            let chosen = match cfg.tie_break {
+                TieBreak::First => choices.first().copied(),
+                TieBreak::Random => choices.choose(rng).copied(),
+            };
+            if let Some(nk) = chosen {
+                next[r] = nk;
+                if cfg.update == GreedyUpdate::Sequential {
+                    occupancy[own as usize] -= 1;
+                    occupancy[corridors.node_of(nk) as usize] += 1;
+                    pos[r] = nk;
+                }
+            }
+        }
+        if cfg.update == GreedyUpdate::Simultaneous {
+            for r in 0..n {
+                occupancy[corridors.node_of(pos[r]) as usize] -= 1;
+                occupancy[corridors.node_of(next[r]) as usize] += 1;
+            }
+        }
+        pos = next;
+        for (p, &v) in paths.iter_mut().zip(&pos) {
+            p.push(v);
+        }
+        if !seen.insert(pos.clone()) {
+            return Ok((paths, GreedyEnd::Cycle));
+        }
+    }
+    let end = if pos.iter().zip(&inst.goals).all(|(p, g)| p == g) {
+        GreedyEnd::AllOnGoal
+    } else {
+        GreedyEnd::StepCap
+    };
+    Ok((paths, end))
+}
+
+/// Step 2, Algorithm 2: from the end of the path backwards, whenever a cell appeared earlier, the
+/// positions between its first and this occurrence are removed (waits count as loops too).
+pub fn loop_elimination(path: &mut Vec<VertexId>) {
+    let mut i = path.len();
+    while i > 1 {
+        i -= 1;
+        if let Some(j) = path[..i].iter().position(|&v| v == path[i]) {
+            path.drain(j + 1..=i);
+            i = j + 1;
+        }
+    }
+}
+
+/// Inserts `count` halts at position `at` (the robot stays on `path[at]` `count` more steps).
+fn insert_halts(path: &[VertexId], at: usize, count: usize) -> Vec<VertexId> {
+    let at = at.min(path.len() - 1);
+    let mut out = Vec::with_capacity(path.len() + count);
+    out.extend_from_slice(&path[..=at]);
+    out.extend(std::iter::repeat_n(path[at], count));
+    out.extend_from_slice(&path[at + 1..]);
+    out
+}
+
+/// Algorithm 4: resolve the collision of robots `a` and `b` at step `t` by inserting `i` halts at
+/// position `t - i` in `a`'s path, or failing that in `b`'s, for `i = 1..=t`. Returns false when
+/// no `i` works.
+pub fn resolve_collision(
+    paths: &mut [Vec<VertexId>],
+    a: usize,
+    b: usize,
+    t: usize,
+    num_vertices: usize,
+) -> bool {
+    for i in 1..=t {
+        let new_a = insert_halts(&paths[a], t - i, i);
+        if first_conflict(&[new_a.clone(), paths[b].clone()], num_vertices, true).is_none() {
+            paths[a] = new_a;
+            return true;
+        }
+        let new_b = insert_halts(&paths[b], t - i, i);
+        if first_conflict(&[paths[a].clone(), new_b.clone()], num_vertices, true).is_none() {
+            paths[b] = new_b;
+            return true;
+        }
+    }
+    false
+}
+
+/// How collision elimination ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ResolutionEnd {
+    NoConflict,
+    /// Algorithm 4 found no halts that clear the first conflict.
+    Stuck,
+    RoundCap,
+}
+
+/// Step 3, Algorithm 3: resolve the first conflict with Algorithm 4 until none is left.
+pub fn collision_elimination(
+    paths: &mut [Vec<VertexId>],
+    num_vertices: usize,
+    max_rounds: usize,
+    deadline: Deadline,
+) -> Result<ResolutionEnd, Unsolved> {
+    for _ in 0..max_rounds {
+        let Some(c) = first_conflict(paths, num_vertices, true) else {
+            return Ok(ResolutionEnd::NoConflict);
+        };
+        if deadline.expired() {
+            return Err(Unsolved::TimeLimit);
+        }
+        if !resolve_collision(paths, c.a, c.b, c.t, num_vertices) {
+            return Ok(ResolutionEnd::Stuck);
+        }
+    }
+    Ok(if first_conflict(paths, num_vertices, true).is_none() {
+        ResolutionEnd::NoConflict
+    } else {
+        ResolutionEnd::RoundCap
+    })
+}
+
+/// Our extension (module doc): re-plan the robots that are short of their goals or in conflict
+/// with space-time A* against the other robots' paths; restart with a failing robot first.
+pub fn reservation_repair(
+    g: &Graph,
+    inst: &Instance,
+    paths: &[Vec<VertexId>],
+    max_rounds: usize,
+    deadline: Deadline,
+) -> Result<Vec<Vec<VertexId>>, Unsolved> {
+    let n = inst.num_agents();
+    let nv = g.num_vertices();
+    let dist = goal_distance_tables(g, &inst.goals);
+    for (i, d) in dist.iter().enumerate() {
+        if d[inst.starts[i] as usize] == UNREACHABLE {
+            return Err(Unsolved::GaveUp(format!(
+                "agent {i} cannot reach its goal on this map"
+            )));
+        }
+    }
+    // Robots to re-plan: short of goal, then one robot of each remaining conflict.
+    let mut replan: Vec<bool> = (0..n)
+        .map(|i| paths[i].last() != Some(&inst.goals[i]))
+        .collect();
+    loop {
+        let kept: Vec<usize> = (0..n).filter(|&i| !replan[i]).collect();
+        let kept_paths: Vec<Vec<VertexId>> = kept.iter().map(|&i| paths[i].clone()).collect();
+        match first_conflict(&kept_paths, nv, true) {
+            None => break,
+            Some(c) => replan[kept[c.b]] = true,
+        }
+    }
+    // Longest remaining distance first among the re-planned robots.
+    let mut order: Vec<usize> = (0..n).filter(|&i| replan[i]).collect();
+    order.sort_by_key(|&i| (std::cmp::Reverse(dist[i][inst.starts[i] as usize]), i));
+    let mut fixed: Vec<bool> = replan.iter().map(|r| !r).collect();
+    for _round in 0..max_rounds.max(1) {
+        let mut res = Reservations::new(nv);
+        let mut out = paths.to_vec();
+        for i in (0..n).filter(|&i| fixed[i]) {
+            res.reserve_path(&paths[i], 0, true);
+        }
+        let mut failed = None;
+        for &i in &order {
+            let h = |v: VertexId| dist[i][v as usize];
+            let q = Query {
+                graph: g,
+                start: inst.starts[i],
+                goal: inst.goals[i],
+                start_time: 0,
+                h: &h,
+                max_time: res.horizon() + nv as u32 + 1,
+                window: None,
+                deadline,
+            };
+            match space_time_astar(&q, &res) {
+                Search::Found(p) => {
+                    res.reserve_path(&p, 0, true);
+                    out[i] = p;
+                }
+                Search::TimedOut => return Err(Unsolved::TimeLimit),
+                Search::NotFound => {
+                    failed = Some(i);
+                    break;
+                }
+            }
+        }
+        match failed {
+            None => return Ok(out),
+            Some(i) => {
+                // Plan everyone in this round's order with the failing robot first.
+                fixed.iter_mut().for_each(|f| *f = false);
+                let mut next: Vec<usize> = vec![i];
+                next.extend(order.iter().copied().filter(|&j| j != i));
+                next.extend((0..n).filter(|j| !order.contains(j)));
+                order = next;
+            }
+        }
+        if deadline.expired() {
+            return Err(Unsolved::TimeLimit);
+        }
+    }
+    Err(Unsolved::GaveUp(format!(
+        "repair found no conflict-free plan in {max_rounds} rounds"
+    )))
+}
+
+/// What the paper's steps produced, for reports and tests.
+#[derive(Debug, Clone)]
+pub struct PaperStages {
+    pub paths: Vec<Vec<VertexId>>,
+    pub greedy_end: GreedyEnd,
+    pub resolution_end: ResolutionEnd,
+}
+
+/// Runs the paper's three steps.
+pub fn paper_stages(
+    g: &Graph,
+    inst: &Instance,
+    cfg: &HStar,
+    opts: &SolveOptions,
+) -> Result<PaperStages, Unsolved> {
+    let corridors = Corridors::build(g);
+    let mut rng = ChaCha8Rng::seed_from_u64(opts.seed);
+    let (mut paths, greedy_end) =
+        greedy_path_search(g, &corridors, inst, cfg, &mut rng, opts.deadline)?;
+    for p in &mut paths {
+        loop_elimination(p);
+    }
+    let resolution_end = collision_elimination(
+        &mut paths,
+        g.num_vertices(),
+        cfg.max_resolution_rounds,
+        opts.deadline,
+    )?;
+    Ok(PaperStages {
+        paths,
+        greedy_end,
+        resolution_end,
+    })
+}
+
+impl Planner for HStar {
+    fn name(&self) -> String {
+        match self.variant {
+            Variant::Paper => "hstar-paper".into(),
+            Variant::Repaired => "hstar".into(),
+        }
+    }
+
+    fn plan(&self, g: &Graph, inst: &Instance, opts: &SolveOptions) -> Result<Plan, Unsolved> {
+        let stages = paper_stages(g, inst, self, opts)?;
+        let short: Vec<usize> = (0..inst.num_agents())
+            .filter(|&i| stages.paths[i].last() != Some(&inst.goals[i]))
+            .collect();
+        let clean = short.is_empty() && stages.resolution_end == ResolutionEnd::NoConflict;
+        if clean {
+            return Ok(Plan::new(stages.paths));
+        }
+        match self.variant {
+            Variant::Paper => Err(Unsolved::GaveUp(if !short.is_empty() {
+                format!(
+                    "paper steps leave {} robot(s) short of their goals (greedy stage ended: {:?}), e.g. agent {} at {}",
+                    short.len(),
+                    stages.greedy_end,
+                    short[0],
+                    g.label(position(&stages.paths[short[0]], usize::MAX))
+                )
+            } else {
+                format!(
+                    "paper steps leave conflicts (collision elimination ended: {:?})",
+                    stages.resolution_end
+                )
+            })),
+            Variant::Repaired => reservation_repair(
+                g,
+                inst,
+                &stages.paths,
+                self.max_repair_rounds,
+                opts.deadline,
+            )
+            .map(Plan::new),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::grid::GridMap;
+    use crate::plan::ValidateOptions;
+    use std::path::Path;
+
+    #[test]
+    fn loop_elimination_cuts_cycles_and_waits() {
+        let mut p = vec![1, 2, 3, 2, 4, 4, 5];
+        loop_elimination(&mut p);
+        assert_eq!(p, vec![1, 2, 4, 5]);
+        let mut q = vec![1, 2, 1, 2, 3];
+        loop_elimination(&mut q);
+        assert_eq!(q, vec![1, 2, 3]);
+        let mut r = vec![7];
+        loop_elimination(&mut r);
+        assert_eq!(r, vec![7]);
+    }
+
+    #[test]
+    fn halts_are_inserted_before_the_collision() {
+        assert_eq!(insert_halts(&[1, 2, 3], 1, 2), vec![1, 2, 2, 2, 3]);
+        // Plus: centre 0, W=1 E=2 N=3 S=4; both cross the centre at t=1.
+        let mut paths = vec![vec![1, 0, 2], vec![4, 0, 3]];
+        assert!(resolve_collision(&mut paths, 0, 1, 1, 5));
+        assert_eq!(paths[0], vec![1, 1, 0, 2]);
+        assert!(first_conflict(&paths, 5, true).is_none());
+    }
+
+    fn solve_map(
+        map: &str,
+        robots: &str,
+        planner: &HStar,
+    ) -> (GridMap, Instance, Result<Plan, Unsolved>) {
+        let m = GridMap::parse(map, Path::new("m.txt")).unwrap().0;
+        let inst = Instance::parse(robots, Path::new("r.txt"), &m, None).unwrap();
+        let r = planner.plan(m.graph(), &inst, &SolveOptions::default());
+        (m, inst, r)
+    }
+
+    #[test]
+    fn open_room_crossing_is_solved_and_valid() {
+        let map = "#######\n#     #\n#     #\n#     #\n#######";
+        let (m, inst, r) = solve_map(map, "1,2;5,2\n5,2;1,2\n3,1;3,3\n3,3;3,1", &HStar::default());
+        let plan = r.unwrap();
+        let metrics = plan
+            .validate(m.graph(), &inst, ValidateOptions::default())
+            .unwrap();
+        assert!(metrics.sum_of_costs >= 4 + 4 + 2 + 2);
+    }
+
+    #[test]
+    fn head_on_in_a_corridor_needs_the_repair() {
+        // Two robots must pass each other through a 1-wide corridor with a side pocket.
+        let map = "#########\n## ######\n#       #\n#########";
+        let robots = "1,2;7,2\n7,2;1,2";
+        let (m, inst, r) = solve_map(map, robots, &HStar::default());
+        let plan = r.unwrap();
+        plan.validate(m.graph(), &inst, ValidateOptions::default())
+            .unwrap();
+        let (_, _, paper) = solve_map(map, robots, &HStar::paper());
+        match paper {
+            Ok(p) => {
+                p.validate(m.graph(), &inst, ValidateOptions::default())
+                    .unwrap();
+            }
+            Err(Unsolved::GaveUp(_)) => {}
+            Err(e) => panic!("unexpected {e}"),
+        }
+    }
+
+    #[test]
+    fn expired_deadline_is_honoured() {
+        let m = GridMap::parse("#######\n#     #\n#     #\n#######", Path::new("m.txt"))
+            .unwrap()
+            .0;
+        let inst = Instance::parse("1,1;5,2\n5,1;1,2", Path::new("r.txt"), &m, None).unwrap();
+        let opts = SolveOptions {
+            seed: 0,
+            deadline: Deadline::after(std::time::Duration::ZERO),
+        };
+        assert_eq!(
+            HStar::default().plan(m.graph(), &inst, &opts),
+            Err(Unsolved::TimeLimit)
+        );
+    }
+}
