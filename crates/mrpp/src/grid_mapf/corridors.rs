@@ -202,7 +202,15 @@ mod tests {
         assert_eq!(c.cells(c.node_of(a)).len(), 2);
         let j = m.vertex_at(2, 2).unwrap();
         assert_ne!(c.node_of(j), c.node_of(a));
-        assert_eq!(c.num_nodes(), m.graph().num_vertices() - 1);
+        // Nodes partition the cells, and consecutive cells of a node are adjacent.
+        let total: usize = (0..c.num_nodes() as NodeId).map(|n| c.cells(n).len()).sum();
+        assert_eq!(total, m.graph().num_vertices());
+        for n in 0..c.num_nodes() as NodeId {
+            for w in c.cells(n).windows(2) {
+                assert!(m.graph().has_edge(w[0], w[1]));
+            }
+            assert!(c.cells(n).iter().all(|&v| c.node_of(v) == n));
+        }
     }
 
     #[test]

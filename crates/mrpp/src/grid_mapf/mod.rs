@@ -1,6 +1,7 @@
 //! Planners for MAPF on 4-connected grids (they work on any [`crate::Graph`] with coordinates):
 //! H* (the paper's hybrid greedy planner) and the cooperative A* family (CA*, HCA*, WHCA*).
 
+pub mod cooperative;
 pub mod corridors;
 pub mod hstar;
 
@@ -19,13 +20,57 @@ pub struct PlannerSpec {
 }
 
 /// Names accepted by [`build_planner`].
-pub const PLANNER_NAMES: &[&str] = &[];
+pub const PLANNER_NAMES: &[&str] = &["hstar", "ca", "hca", "whca"];
 
-/// Builds the planner a spec names.
+/// Builds the planner a spec names; options that do not apply to it are refused, not ignored.
 pub fn build_planner(spec: &PlannerSpec) -> Result<Box<dyn Planner>> {
-    Err(Error::Param(format!(
-        "unknown planner `{}` (known: {})",
-        spec.name,
-        PLANNER_NAMES.join(", ")
-    )))
+    let refuse = |opt: &str| {
+        Err(Error::Param(format!(
+            "--{opt} does not apply to planner `{}`",
+            spec.name
+        )))
+    };
+    match spec.name.as_str() {
+        "hstar" => {
+            if spec.window.is_some() {
+                return refuse("window");
+            }
+            let variant = match spec.variant.as_deref() {
+                None | Some("repaired") => hstar::Variant::Repaired,
+                Some("paper") => hstar::Variant::Paper,
+                Some(other) => {
+                    return Err(Error::Param(format!(
+                        "unknown H* variant `{other}` (known: repaired, paper)"
+                    )));
+                }
+            };
+            Ok(Box::new(hstar::HStar {
+                variant,
+                ..hstar::HStar::default()
+            }))
+        }
+        "ca" | "hca" | "whca" => {
+            if spec.variant.is_some() {
+                return refuse("variant");
+            }
+            match (spec.name.as_str(), spec.window) {
+                ("ca", None) => Ok(Box::new(cooperative::Cooperative::ca())),
+                ("hca", None) => Ok(Box::new(cooperative::Cooperative::hca())),
+                ("whca", None) => Ok(Box::new(cooperative::Cooperative::whca(
+                    cooperative::DEFAULT_WINDOW,
+                ))),
+                ("whca", Some(w)) if (1..=10_000).contains(&w) => {
+                    Ok(Box::new(cooperative::Cooperative::whca(w)))
+                }
+                ("whca", Some(w)) => Err(Error::Param(format!(
+                    "--window must be between 1 and 10000, got {w}"
+                ))),
+                _ => refuse("window"),
+            }
+        }
+        other => Err(Error::Param(format!(
+            "unknown planner `{other}` (known: {})",
+            PLANNER_NAMES.join(", ")
+        ))),
+    }
 }

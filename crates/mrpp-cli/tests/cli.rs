@@ -1,0 +1,355 @@
+//! End-to-end tests of the `mrpp` binary: exit codes, one-line errors naming the file, plans that
+//! `mrpp validate` and the independent Python checker (`tools/check_plan.py`) both accept with the
+//! same metrics, and injected conflicts that both reject.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn data(rel: &str) -> String {
+    root().join("data").join(rel).to_string_lossy().into_owned()
+}
+
+fn mrpp(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_mrpp"))
+        .args(args)
+        .output()
+        .expect("run mrpp")
+}
+
+fn text(o: &Output) -> (String, String) {
+    (
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("mrpp-cli-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+/// Runs the independent checker; returns (valid, parsed JSON line).
+fn check(map: &str, plan: &Path) -> (bool, serde_json::Value) {
+    let o = Command::new("python3")
+        .arg(root().join("tools/check_plan.py"))
+        .arg(map)
+        .arg(plan)
+        .output()
+        .expect("python3 is required for the independent checker");
+    let line = String::from_utf8_lossy(&o.stdout)
+        .lines()
+        .last()
+        .unwrap_or("")
+        .to_string();
+    let v: serde_json::Value =
+        serde_json::from_str(&line).unwrap_or_else(|e| panic!("checker said `{line}`: {e}"));
+    (o.status.success(), v)
+}
+
+/// `mrpp validate`'s metrics line parsed into (soc, makespan, moves).
+fn validate(map: &str, plan: &Path) -> (i32, Option<(u64, u64, u64)>, String) {
+    let o = mrpp(&["validate", "--map", map, "--plan", plan.to_str().unwrap()]);
+    let (out, err) = text(&o);
+    let nums: Vec<u64> = out
+        .split(|c: char| !c.is_ascii_digit())
+        .filter(|s| !s.is_empty())
+        .map(|s| s.parse().unwrap())
+        .collect();
+    let metrics = (nums.len() == 4).then(|| (nums[1], nums[2], nums[3]));
+    (o.status.code().unwrap(), metrics, err)
+}
+
+#[test]
+fn every_planner_plan_is_valid_for_both_checkers() {
+    let cases = [
+        (
+            "hstar-paper/scenario1/scenery.txt",
+            "hstar-paper/scenario1/12coordinates.txt",
+            None,
+        ),
+        (
+            "hstar-paper/scenario3/scenery_warehouse.txt",
+            "hstar-paper/scenario3/20warehouse",
+            None,
+        ),
+        (
+            "movingai/empty-8-8.map",
+            "movingai/empty-8-8-random-1.scen",
+            Some("10"),
+        ),
+        (
+            "movingai/random-32-32-20.map",
+            "movingai/random-32-32-20-random-1.scen",
+            Some("20"),
+        ),
+    ];
+    for (map, scen, agents) in cases {
+        let (map, scen) = (data(map), data(scen));
+        for planner in mrpp::grid_mapf::PLANNER_NAMES {
+            let out = tmp(&format!("{planner}.json"));
+            let mut args = vec![
+                "solve",
+                "--map",
+                &map,
+                "--scen",
+                &scen,
+                "--planner",
+                planner,
+                "--out",
+            ];
+            let out_s = out.to_string_lossy().into_owned();
+            args.push(&out_s);
+            if let Some(n) = agents {
+                args.extend(["--agents", n]);
+            }
+            let o = mrpp(&args);
+            let code = o.status.code().unwrap();
+            assert!(
+                code == 0 || code == 3,
+                "{planner} on {map}: exit {code}: {:?}",
+                text(&o)
+            );
+            let (ok, verdict) = check(&map, &out);
+            if code == 3 {
+                let json: serde_json::Value =
+                    serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+                assert_eq!(json["solved"], false);
+                continue;
+            }
+            let (vcode, metrics, err) = validate(&map, &out);
+            assert_eq!(vcode, 0, "{planner} on {map}: {err}");
+            assert!(ok, "checker rejects {planner} on {map}: {verdict}");
+            let (soc, mk, mv) = metrics.unwrap();
+            assert_eq!(verdict["sum_of_costs"], soc, "{planner} on {map}");
+            assert_eq!(verdict["makespan"], mk, "{planner} on {map}");
+            assert_eq!(verdict["sum_of_moves"], mv, "{planner} on {map}");
+        }
+    }
+}
+
+#[test]
+fn injected_conflicts_are_rejected_by_both_checkers() {
+    let map = data("movingai/empty-8-8.map");
+    let scen = data("movingai/empty-8-8-random-1.scen");
+    let out = tmp("base.json");
+    let o = mrpp(&[
+        "solve",
+        "--map",
+        &map,
+        "--scen",
+        &scen,
+        "--agents",
+        "6",
+        "--planner",
+        "hstar",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
+    let base: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+
+    // Vertex conflict: keep two agents; agent 0 waits on its start (made its goal) and agent 1
+    // walks onto that cell along grid edges.
+    let mut vertex = base.clone();
+    vertex["agents"] = serde_json::Value::Array(base["agents"].as_array().unwrap()[..2].to_vec());
+    let s0 = base["agents"][0]["start"].clone();
+    assert_ne!(base["agents"][0]["start"], base["agents"][1]["start"]);
+    vertex["agents"][0]["path"] = serde_json::json!([s0.clone()]);
+    vertex["agents"][0]["goal"] = s0.clone();
+    let (sx, sy) = (s0[0].as_i64().unwrap(), s0[1].as_i64().unwrap());
+    let s1 = base["agents"][1]["start"].clone();
+    let (mut x, mut y) = (s1[0].as_i64().unwrap(), s1[1].as_i64().unwrap());
+    let mut walk = vec![serde_json::json!([x, y])];
+    while (x, y) != (sx, sy) {
+        if x != sx {
+            x += (sx - x).signum();
+        } else {
+            y += (sy - y).signum();
+        }
+        walk.push(serde_json::json!([x, y]));
+    }
+    // ... and one step beyond it (empty-8-8 is open), so its goal differs from agent 0's.
+    let prev = walk[walk.len() - 2].clone();
+    let beyond = [(1, 0), (-1, 0), (0, 1), (0, -1)]
+        .into_iter()
+        .map(|(dx, dy)| serde_json::json!([sx + dx, sy + dy]))
+        .find(|c| {
+            *c != prev
+                && (0..8).contains(&c[0].as_i64().unwrap())
+                && (0..8).contains(&c[1].as_i64().unwrap())
+        })
+        .unwrap();
+    walk.push(beyond.clone());
+    vertex["agents"][1]["path"] = serde_json::Value::Array(walk);
+    vertex["agents"][1]["goal"] = beyond;
+    vertex["metrics"] = serde_json::json!({"sum_of_costs": null, "makespan": null, "sum_of_moves": null, "runtime_ms": 0.0});
+    let vpath = tmp("vertex.json");
+    std::fs::write(&vpath, vertex.to_string()).unwrap();
+    let (code, _, err) = validate(&map, &vpath);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("conflict") && err.contains("agents 0 and 1"),
+        "{err}"
+    );
+    assert!(!check(&map, &vpath).0);
+
+    // Swap conflict: two agents on adjacent cells exchange them.
+    let swap = serde_json::json!({
+        "map_file": "empty-8-8.map", "planner": "hand", "seed": 0, "solved": true, "goal_semantics": "stay",
+        "metrics": {"sum_of_costs": null, "makespan": null, "sum_of_moves": null, "runtime_ms": 0.0},
+        "agents": [
+            {"start": [2, 2], "goal": [3, 2], "path": [[2, 2], [3, 2]]},
+            {"start": [3, 2], "goal": [2, 2], "path": [[3, 2], [2, 2]]}
+        ]
+    });
+    let spath = tmp("swap.json");
+    std::fs::write(&spath, swap.to_string()).unwrap();
+    let (code, _, err) = validate(&map, &spath);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("swap conflict"), "{err}");
+    assert!(!check(&map, &spath).0);
+}
+
+#[test]
+fn bad_inputs_exit_1_with_one_line_naming_the_file() {
+    let dir = tmp("bad");
+    std::fs::create_dir_all(&dir).unwrap();
+    let truncated = dir.join("truncated.map");
+    std::fs::write(
+        &truncated,
+        "type octile\nheight 8\nwidth 8\nmap\n........\n........\n",
+    )
+    .unwrap();
+    let off_map = dir.join("off.scen");
+    std::fs::write(
+        &off_map,
+        "version 1\n0\tempty-8-8.map\t8\t8\t1\t1\t9\t3\t5\n",
+    )
+    .unwrap();
+    let wall_robots = dir.join("wall.txt");
+    std::fs::write(&wall_robots, "1,1;3,3\n0,0;5,5\n").unwrap();
+    let dup = dir.join("dup.txt");
+    std::fs::write(&dup, "1,1;3,3\n1,1;5,5\n").unwrap();
+    let empty88 = data("movingai/empty-8-8.map");
+    let scen88 = data("movingai/empty-8-8-random-1.scen");
+    let sc1 = data("hstar-paper/scenario1/scenery.txt");
+    let missing = dir.join("missing.map");
+    let cases: Vec<(Vec<String>, String)> = vec![
+        (
+            vec![truncated.display().to_string(), scen88.clone()],
+            "truncated.map".into(),
+        ),
+        (
+            vec![empty88.clone(), off_map.display().to_string()],
+            "off.scen:2".into(),
+        ),
+        (
+            vec![sc1.clone(), wall_robots.display().to_string()],
+            "wall.txt:2".into(),
+        ),
+        (
+            vec![sc1.clone(), dup.display().to_string()],
+            "dup.txt:2".into(),
+        ),
+        (
+            vec![missing.display().to_string(), scen88.clone()],
+            "missing.map".into(),
+        ),
+    ];
+    for (files, needle) in cases {
+        let o = mrpp(&[
+            "solve",
+            "--map",
+            &files[0],
+            "--scen",
+            &files[1],
+            "--planner",
+            "hstar",
+        ]);
+        let (_, err) = text(&o);
+        assert_eq!(o.status.code(), Some(1), "{needle}: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{needle}: {err}");
+        assert!(err.contains(&needle), "expected `{needle}` in `{err}`");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    // Absurd parameters and unknown planners are usage errors (exit 1), not panics.
+    for args in [
+        vec!["--planner", "hstar", "--time-limit", "-1"],
+        vec!["--planner", "nope"],
+        vec!["--planner", "hstar", "--agents", "0"],
+        vec!["--planner", "hstar", "--agents", "100000"],
+    ] {
+        let mut full = vec!["solve", "--map", &empty88, "--scen", &scen88];
+        full.extend(args.iter());
+        let o = mrpp(&full);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {:?}", text(&o));
+    }
+}
+
+#[test]
+fn unsolved_exits_3_and_lacam_and_svg_outputs_are_written() {
+    let map = data("movingai/empty-8-8.map");
+    let scen = data("movingai/empty-8-8-random-1.scen");
+    let out = tmp("plan.lacam");
+    let o = mrpp(&[
+        "solve",
+        "--map",
+        &map,
+        "--scen",
+        &scen,
+        "--agents",
+        "8",
+        "--planner",
+        "hstar",
+        "--format",
+        "lacam",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
+    let lacam = std::fs::read_to_string(&out).unwrap();
+    assert!(lacam.starts_with("agents=8\n"), "{lacam}");
+    assert!(lacam.contains("solution=\n0:("), "{lacam}");
+    assert_eq!(validate(&map, &out).0, 0);
+    let svg = tmp("plan.svg");
+    let o = mrpp(&[
+        "render",
+        "--map",
+        &map,
+        "--plan",
+        out.to_str().unwrap(),
+        "--out",
+        svg.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
+    assert!(std::fs::read_to_string(&svg).unwrap().contains("<svg"));
+
+    // The paper-only H* gives up on SC2 (robots deadlock in the greedy stage): exit 3, JSON says so.
+    let jout = tmp("unsolved.json");
+    let sc2 = data("hstar-paper/scenario2/scenery_4rooms_B.txt");
+    let robots = data("hstar-paper/scenario2/3robots-per-room.txt");
+    let o = mrpp(&[
+        "solve",
+        "--map",
+        &sc2,
+        "--scen",
+        &robots,
+        "--planner",
+        "hstar",
+        "--variant",
+        "paper",
+        "--out",
+        jout.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(3), "{:?}", text(&o));
+    let json: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&jout).unwrap()).unwrap();
+    assert_eq!(json["solved"], false);
+    assert_eq!(validate(&sc2, &jout).0, 1);
+}
