@@ -39,29 +39,31 @@ fn hstar_solves_every_table1_instance() {
 
 #[test]
 fn paper_variant_never_returns_an_invalid_plan() {
+    use mrpp::solve::{Planner, Unsolved};
+    let mut solved = 0;
     for pi in table1_instances(&data(), Scenario2Map::OpenRooms) {
         let map = GridMap::load(&pi.map).unwrap();
         let inst = Instance::load(&pi.robots_file, &map, None).unwrap();
-        let r = HStar::paper().plan_checked(&map, &inst);
-        eprintln!("paper SC{} {:>6}: {}", pi.scenario, pi.label, r);
-    }
-}
-
-trait PlanChecked {
-    fn plan_checked(&self, map: &GridMap, inst: &Instance) -> String;
-}
-
-impl PlanChecked for HStar {
-    fn plan_checked(&self, map: &GridMap, inst: &Instance) -> String {
-        use mrpp::solve::Planner;
-        match self.plan(map.graph(), inst, &SolveOptions::default()) {
+        // Called directly, not through `solve`, so an invalid plan would not be hidden.
+        match HStar::paper().plan(map.graph(), &inst, &SolveOptions::default()) {
             Ok(plan) => {
-                let m = plan
-                    .validate(map.graph(), inst, ValidateOptions::default())
-                    .unwrap();
-                format!("solved, max {} sum {}", m.makespan, m.sum_of_costs)
+                plan.validate(map.graph(), &inst, ValidateOptions::default())
+                    .unwrap_or_else(|v| {
+                        panic!(
+                            "SC{} {}: {}",
+                            pi.scenario,
+                            pi.label,
+                            v.describe(map.graph())
+                        )
+                    });
+                solved += 1;
             }
-            Err(e) => format!("not solved: {e}"),
+            Err(Unsolved::GaveUp(why)) => {
+                eprintln!("paper SC{} {}: not solved: {why}", pi.scenario, pi.label)
+            }
+            Err(Unsolved::TimeLimit) => panic!("no time limit was set"),
         }
     }
+    // The paper's steps alone do finish some instances (e.g. Scenario 1 with 6 robots).
+    assert!(solved > 0);
 }

@@ -21,16 +21,20 @@
 //! - The greedy stage stops when every robot is on its goal, when a joint configuration repeats
 //!   (the stage is deterministic, so it would cycle for ever), or after `max_greedy_steps`.
 //! - Algorithm 4 may find no number of halts that clears a conflict; Algorithm 3 would then loop
-//!   for ever. We stop at the first such conflict, or after `max_resolution_rounds` resolutions.
+//!   for ever. We stop at the first such conflict, after `max_resolution_rounds` resolutions
+//!   (default 100 + 10 per robot), or once halts have stretched the longest path past
+//!   `max_stretch` times its length before this step (default 3): each resolution may add halts
+//!   that cause new conflicts, and without these caps we saw makespans above 10 000 on a 63x31 map.
 //!
 //! [`Variant::Paper`] runs only those steps and reports "not solved" when a robot is short of its
 //! goal or a conflict is left. The authors' public code ends that way on most of the paper's own
 //! instances, while the paper reports collision-free plans for all of them. [`Variant::Repaired`]
 //! (default) finishes the job with [`reservation_repair`], our documented extension: the robots
 //! left short of their goals or in conflict are re-planned with space-time A* against a reservation
-//! table holding every other robot's H* path; a robot that finds no path is promoted to the front
-//! and the round is planned again from scratch in that order (prioritised planning with restarts),
-//! a bounded number of times.
+//! table holding every other robot's H* path. A robot that finds no path is planned first in the
+//! next round, together with the robots in its way, which lose their H* paths too: those parked on
+//! its shortest route, else those whose paths cross that route, else everyone (prioritised
+//! planning with restarts, a bounded number of rounds).
 
 use rand::SeedableRng;
 use rand::seq::IndexedRandom;
@@ -41,7 +45,7 @@ use crate::graph::{Graph, VertexId};
 use crate::grid_mapf::corridors::{Corridors, NodeId};
 use crate::instance::Instance;
 use crate::plan::{Plan, first_conflict, position};
-use crate::search::distance::{UNREACHABLE, goal_distance_tables};
+use crate::search::distance::{UNREACHABLE, descend, goal_distance_tables};
 use crate::search::spacetime::{Query, Reservations, Search, space_time_astar};
 use crate::solve::{Deadline, Planner, SolveOptions, Unsolved};
 
@@ -70,16 +74,30 @@ pub enum TieBreak {
     Random,
 }
 
+/// When another robot on a robot's *target* node blocks its route.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TargetOccupancy {
+    /// Whenever any robot stands there (the paper's rule read literally). When every target is
+    /// another robot's start, as in Scenario 2, no robot can move at all.
+    Blocks,
+    /// Only when the robot there has arrived on its own goal (it will not leave); a robot merely
+    /// passing or starting there is expected to move on.
+    BlocksWhenParked,
+}
+
 /// The H* planner and its options.
 #[derive(Debug, Clone)]
 pub struct HStar {
     pub variant: Variant,
+    pub target_occupancy: TargetOccupancy,
     pub update: GreedyUpdate,
     pub tie_break: TieBreak,
     /// Cap on greedy time steps; `None` = 4·|V| + 100.
     pub max_greedy_steps: Option<usize>,
-    /// Cap on the number of conflicts Algorithm 3 resolves.
-    pub max_resolution_rounds: usize,
+    /// Cap on the number of conflicts Algorithm 3 resolves; `None` = 100 + 10 per robot.
+    pub max_resolution_rounds: Option<usize>,
+    /// Algorithm 3 stops once the longest path exceeds this factor times its initial length.
+    pub max_stretch: usize,
     /// Restarts of the repair step (each puts a failing robot first).
     pub max_repair_rounds: usize,
 }
@@ -88,10 +106,12 @@ impl Default for HStar {
     fn default() -> Self {
         HStar {
             variant: Variant::Repaired,
+            target_occupancy: TargetOccupancy::BlocksWhenParked,
             update: GreedyUpdate::Sequential,
             tie_break: TieBreak::First,
             max_greedy_steps: None,
-            max_resolution_rounds: 10_000,
+            max_resolution_rounds: None,
+            max_stretch: 3,
             max_repair_rounds: 16,
         }
     }
@@ -133,6 +153,13 @@ pub fn greedy_path_search(
     for &p in &pos {
         occupancy[corridors.node_of(p) as usize] += 1;
     }
+    // Robots standing on their own goal, per node (they never move again in this stage).
+    let mut parked = vec![0u32; corridors.num_nodes()];
+    for (p, g) in pos.iter().zip(&inst.goals) {
+        if p == g {
+            parked[corridors.node_of(*p) as usize] += 1;
+        }
+    }
     let cap = cfg.max_greedy_steps.unwrap_or(4 * g.num_vertices() + 100);
     let mut seen: FxHashSet<Vec<VertexId>> = FxHashSet::default();
     seen.insert(pos.clone());
@@ -158,11 +185,16 @@ pub fn greedy_path_search(
             };
             let own = corridors.node_of(cur);
             // A node is occupied by others if someone other than r stands on it.
-            let blocked = |node: NodeId| occ[node as usize] > u32::from(node == own);
+            let target = corridors.node_of(goal);
+            let occupied = |node: NodeId| occ[node as usize] > u32::from(node == own);
+            let blocked = |node: NodeId| match cfg.target_occupancy {
+                TargetOccupancy::BlocksWhenParked if node == target => parked[node as usize] > 0,
+                _ => occupied(node),
+            };
             let mut best = u32::MAX;
             choices.clear();
             for &nk in g.neighbors(cur) {
-                if blocked(corridors.node_of(nk)) {
+                if occupied(corridors.node_of(nk)) {
                     continue;
                 }
                 let Some(rest) = corridors.route_length(g, nk, goal, cur, &blocked) else {
@@ -197,6 +229,11 @@ pub fn greedy_path_search(
             }
         }
         pos = next;
+        for (r, (p, g)) in pos.iter().zip(&inst.goals).enumerate() {
+            if p == g && paths[r].last() != Some(g) {
+                parked[corridors.node_of(*p) as usize] += 1;
+            }
+        }
         for (p, &v) in paths.iter_mut().zip(&pos) {
             p.push(v);
         }
@@ -274,9 +311,15 @@ pub fn collision_elimination(
     paths: &mut [Vec<VertexId>],
     num_vertices: usize,
     max_rounds: usize,
+    max_stretch: usize,
     deadline: Deadline,
 ) -> Result<ResolutionEnd, Unsolved> {
+    let longest = |paths: &[Vec<VertexId>]| paths.iter().map(Vec::len).max().unwrap_or(0);
+    let limit = longest(paths).saturating_mul(max_stretch.max(1));
     for _ in 0..max_rounds {
+        if longest(paths) > limit {
+            break;
+        }
         let Some(c) = first_conflict(paths, num_vertices, true) else {
             return Ok(ResolutionEnd::NoConflict);
         };
@@ -363,11 +406,33 @@ pub fn reservation_repair(
         match failed {
             None => return Ok(out),
             Some(i) => {
-                // Plan everyone in this round's order with the failing robot first.
-                fixed.iter_mut().for_each(|f| *f = false);
+                // Free the robots in i's way and plan i before them: first those parked on a
+                // shortest route of i, else those whose paths cross it, else everyone.
+                let route: FxHashSet<VertexId> =
+                    descend(g, &dist[i], inst.starts[i]).into_iter().collect();
+                let candidates: Vec<usize> = (0..n).filter(|&j| fixed[j]).collect();
+                let mut freed: Vec<usize> = candidates
+                    .iter()
+                    .copied()
+                    .filter(|&j| route.contains(&inst.goals[j]))
+                    .collect();
+                if freed.is_empty() {
+                    freed = candidates
+                        .iter()
+                        .copied()
+                        .filter(|&j| paths[j].iter().any(|v| route.contains(v)))
+                        .collect();
+                }
+                if freed.is_empty() {
+                    freed = candidates;
+                }
+                freed.sort_by_key(|&j| (std::cmp::Reverse(dist[j][inst.starts[j] as usize]), j));
+                for &j in &freed {
+                    fixed[j] = false;
+                }
                 let mut next: Vec<usize> = vec![i];
+                next.extend(freed);
                 next.extend(order.iter().copied().filter(|&j| j != i));
-                next.extend((0..n).filter(|j| !order.contains(j)));
                 order = next;
             }
         }
@@ -405,7 +470,9 @@ pub fn paper_stages(
     let resolution_end = collision_elimination(
         &mut paths,
         g.num_vertices(),
-        cfg.max_resolution_rounds,
+        cfg.max_resolution_rounds
+            .unwrap_or(100 + 10 * inst.num_agents()),
+        cfg.max_stretch,
         opts.deadline,
     )?;
     Ok(PaperStages {

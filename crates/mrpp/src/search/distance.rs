@@ -40,6 +40,25 @@ pub fn goal_distance_tables(g: &Graph, goals: &[VertexId]) -> Vec<Vec<u32>> {
     goals.iter().map(|&goal| bfs_distances(g, goal)).collect()
 }
 
+/// A shortest route from `from` down a distance table to its source (ties: neighbour order).
+/// Empty when `from` cannot reach it.
+pub fn descend(g: &Graph, dist: &[u32], from: VertexId) -> Vec<VertexId> {
+    if dist[from as usize] == UNREACHABLE {
+        return Vec::new();
+    }
+    let mut route = vec![from];
+    let mut v = from;
+    while dist[v as usize] > 0 {
+        v = *g
+            .neighbors(v)
+            .iter()
+            .find(|&&w| dist[w as usize] + 1 == dist[v as usize])
+            .expect("a BFS table always has a predecessor");
+        route.push(v);
+    }
+    route
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
