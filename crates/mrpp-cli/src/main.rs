@@ -78,6 +78,16 @@ enum Command {
         #[arg(long, requires = "scen")]
         agents: Option<usize>,
     },
+    /// Describe an instance: map size, free cells, corridor nodes, and lower bounds on any valid
+    /// plan's sum of costs and makespan (each agent's shortest distance, ignoring the others).
+    Info {
+        #[arg(long)]
+        map: PathBuf,
+        #[arg(long)]
+        scen: PathBuf,
+        #[arg(long)]
+        agents: Option<usize>,
+    },
     /// Draw a plan (map, starts, goals, paths) as an SVG picture.
     Render {
         #[arg(long)]
@@ -142,6 +152,7 @@ fn main() -> ExitCode {
             scen,
             agents,
         } => cmd_validate(&map, &plan, scen.as_deref(), agents),
+        Command::Info { map, scen, agents } => cmd_info(&map, &scen, agents),
         Command::Render { map, plan, out } => cmd_render(&map, &plan, &out),
     };
     match result {
@@ -346,5 +357,39 @@ fn cmd_render(map_path: &Path, plan_path: &Path, out: &Path) -> Result<u8, Fail>
     let (inst, plan, _) = read_plan(&map, plan_path)?;
     write_atomic(out, &render_svg(&map, &inst, Some(&plan)))?;
     println!("picture written to {}", out.display());
+    Ok(0)
+}
+
+fn cmd_info(map_path: &Path, scen_path: &Path, agents: Option<usize>) -> Result<u8, Fail> {
+    let map = GridMap::load(map_path)?;
+    let inst = Instance::load(scen_path, &map, agents)?;
+    let g = map.graph();
+    let corridors = mrpp::grid_mapf::corridors::Corridors::build(g);
+    let tables = mrpp::search::distance::goal_distance_tables(g, &inst.goals);
+    let mut sum = 0u64;
+    let mut max = 0u64;
+    for (i, d) in tables.iter().enumerate() {
+        let di = d[inst.starts[i] as usize];
+        if di == mrpp::search::distance::UNREACHABLE {
+            return Err(Fail(format!(
+                "{}: agent {i} cannot reach its goal {} from {}",
+                scen_path.display(),
+                g.label(inst.goals[i]),
+                g.label(inst.starts[i])
+            )));
+        }
+        sum += u64::from(di);
+        max = max.max(u64::from(di));
+    }
+    println!(
+        "map {} {}x{} | free cells {} | corridor-compressed nodes {} | agents {}",
+        file_name(map_path),
+        map.width(),
+        map.height(),
+        g.num_vertices(),
+        corridors.num_nodes(),
+        inst.num_agents()
+    );
+    println!("lower bounds: sum_of_costs >= {sum} | makespan >= {max}");
     Ok(0)
 }
