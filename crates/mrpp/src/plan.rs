@@ -69,9 +69,9 @@ pub struct Conflict {
 pub enum ConflictKind {
     /// Both on `v` at `t`.
     Vertex { v: VertexId },
-    /// `a` moves `u -> v` while `b` moves `v -> u`.
+    /// `a` moves `u -> v` while `b` moves `v -> u` between `t - 1` and `t`.
     Swap { u: VertexId, v: VertexId },
-    /// `a` enters `v` that `b` occupied at `t - 1` (only when following is forbidden).
+    /// One of the pair enters `v` that the other occupied at `t - 1` (only when following is forbidden).
     Following { v: VertexId },
 }
 
