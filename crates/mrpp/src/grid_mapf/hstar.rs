@@ -34,7 +34,10 @@
 //! table holding every other robot's H* path. A robot that finds no path is planned first in the
 //! next round, together with the robots in its way, which lose their H* paths too: those parked on
 //! its shortest route, else those whose paths cross that route, else everyone (prioritised
-//! planning with restarts, a bounded number of rounds).
+//! planning with restarts, a bounded number of rounds). It then runs [`local_replanning`], a
+//! stronger form of the paper's local search: single robots, then pairs of robots that cross, are
+//! re-planned against all the others and keep their new paths only when the sum of costs drops
+//! (`replanning_passes`, default 4; 0 turns it off).
 
 use rand::SeedableRng;
 use rand::seq::IndexedRandom;
@@ -98,6 +101,8 @@ pub struct HStar {
     pub max_resolution_rounds: Option<usize>,
     /// Algorithm 3 stops once the longest path exceeds this factor times its initial length.
     pub max_stretch: usize,
+    /// Passes of [`local_replanning`] after the repair (repaired variant; 0 = off).
+    pub replanning_passes: usize,
     /// Restarts of the repair step (each puts a failing robot first).
     pub max_repair_rounds: usize,
 }
@@ -113,6 +118,7 @@ impl Default for HStar {
             max_resolution_rounds: None,
             max_stretch: 3,
             max_repair_rounds: 16,
+            replanning_passes: 4,
         }
     }
 }
@@ -496,34 +502,162 @@ impl Planner for HStar {
             .filter(|&i| stages.paths[i].last() != Some(&inst.goals[i]))
             .collect();
         let clean = short.is_empty() && stages.resolution_end == ResolutionEnd::NoConflict;
-        if clean {
-            return Ok(Plan::new(stages.paths));
-        }
-        match self.variant {
-            Variant::Paper => Err(Unsolved::GaveUp(if !short.is_empty() {
-                format!(
-                    "paper steps leave {} robot(s) short of their goals (greedy stage ended: {:?}), e.g. agent {} at {}",
-                    short.len(),
-                    stages.greedy_end,
-                    short[0],
-                    g.label(position(&stages.paths[short[0]], usize::MAX))
-                )
-            } else {
-                format!(
-                    "paper steps leave conflicts (collision elimination ended: {:?})",
-                    stages.resolution_end
-                )
-            })),
-            Variant::Repaired => reservation_repair(
+        let mut paths = match (clean, self.variant) {
+            (true, _) => stages.paths,
+            (false, Variant::Paper) => {
+                return Err(Unsolved::GaveUp(if !short.is_empty() {
+                    format!(
+                        "paper steps leave {} robot(s) short of their goals (greedy stage ended: {:?}), e.g. agent {} at {}",
+                        short.len(),
+                        stages.greedy_end,
+                        short[0],
+                        g.label(position(&stages.paths[short[0]], usize::MAX))
+                    )
+                } else {
+                    format!(
+                        "paper steps leave conflicts (collision elimination ended: {:?})",
+                        stages.resolution_end
+                    )
+                }));
+            }
+            (false, Variant::Repaired) => reservation_repair(
                 g,
                 inst,
                 &stages.paths,
                 self.max_repair_rounds,
                 opts.deadline,
-            )
-            .map(Plan::new),
+            )?,
+        };
+        if self.variant == Variant::Repaired {
+            local_replanning(g, inst, &mut paths, self.replanning_passes, opts.deadline)?;
+        }
+        Ok(Plan::new(paths))
+    }
+}
+
+/// Our second extension of the local search (repaired variant only), in two moves, repeated while
+/// either improves something (at most `passes` times):
+/// - *single*: each robot in turn, most delayed first, is re-planned with space-time A* against
+///   every other robot's path and keeps the new path only if it arrives strictly earlier;
+/// - *pair*: a delayed robot and one robot whose path crosses its shortest route (at most
+///   `PAIR_CANDIDATES` of them, most delayed first) are both re-planned, in both orders, and the
+///   better pair of paths is kept if their summed cost drops. Two robots that hold each other up in
+///   a corridor can only be untangled together.
+///
+/// Algorithm 4 clears a conflict with whatever number of halts works first, and the greedy stage's
+/// detours around occupied corridors stay in the paths; these moves remove such waits and detours
+/// when the other robots' timing allows. Neither makes the sum of costs larger and both keep the
+/// plan conflict-free.
+pub fn local_replanning(
+    g: &Graph,
+    inst: &Instance,
+    paths: &mut [Vec<VertexId>],
+    passes: usize,
+    deadline: Deadline,
+) -> Result<(), Unsolved> {
+    const PAIR_CANDIDATES: usize = 3;
+    let n = inst.num_agents();
+    let dist = goal_distance_tables(g, &inst.goals);
+    let ideal = |i: usize| dist[i][inst.starts[i] as usize] as usize;
+    let cost = |p: &[VertexId], i: usize| {
+        crate::plan::path_cost(p, inst.goals[i], crate::plan::GoalSemantics::Stay)
+            .unwrap_or(usize::MAX)
+    };
+    let routes: Vec<FxHashSet<VertexId>> = (0..n)
+        .map(|i| descend(g, &dist[i], inst.starts[i]).into_iter().collect())
+        .collect();
+    // Plans `order` one after another against every path except theirs, their costs summing to at
+    // most `budget` (each robot needs at least its distance); None if that is impossible.
+    let replan = |paths: &[Vec<VertexId>],
+                  order: &[usize],
+                  budget: usize|
+     -> Result<Option<Vec<Vec<VertexId>>>, Unsolved> {
+        let mut res = Reservations::new(g.num_vertices());
+        for (j, p) in paths.iter().enumerate() {
+            if !order.contains(&j) {
+                res.reserve_path(p, 0, true);
+            }
+        }
+        let mut out = Vec::with_capacity(order.len());
+        let mut left = budget;
+        for (k, &i) in order.iter().enumerate() {
+            let others: usize = order[k + 1..].iter().map(|&j| ideal(j)).sum();
+            let Some(bound) = left.checked_sub(others) else {
+                return Ok(None);
+            };
+            let h = |v: VertexId| dist[i][v as usize];
+            let q = Query {
+                graph: g,
+                start: inst.starts[i],
+                goal: inst.goals[i],
+                start_time: 0,
+                h: &h,
+                max_time: bound as u32,
+                window: None,
+                deadline,
+            };
+            match space_time_astar(&q, &res) {
+                Search::Found(p) => {
+                    res.reserve_path(&p, 0, true);
+                    left -= cost(&p, i).min(left);
+                    out.push(p);
+                }
+                Search::TimedOut => return Err(Unsolved::TimeLimit),
+                Search::NotFound => return Ok(None),
+            }
+        }
+        Ok(Some(out))
+    };
+    for _ in 0..passes {
+        let mut order: Vec<usize> = (0..n).filter(|&i| cost(&paths[i], i) > ideal(i)).collect();
+        order.sort_by_key(|&i| (std::cmp::Reverse(cost(&paths[i], i) - ideal(i)), i));
+        let mut improved = false;
+        for &i in &order {
+            let current = cost(&paths[i], i);
+            if current > ideal(i)
+                && let Some(mut p) = replan(paths, &[i], current - 1)?
+                && cost(&p[0], i) < current
+            {
+                paths[i] = p.remove(0);
+                improved = true;
+            }
+        }
+        for &i in &order {
+            if cost(&paths[i], i) <= ideal(i) {
+                continue;
+            }
+            let mut partners: Vec<usize> = (0..n)
+                .filter(|&j| j != i && paths[j].iter().any(|v| routes[i].contains(v)))
+                .collect();
+            partners.sort_by_key(|&j| (std::cmp::Reverse(cost(&paths[j], j) - ideal(j)), j));
+            for &j in partners.iter().take(PAIR_CANDIDATES) {
+                let before = cost(&paths[i], i) + cost(&paths[j], j);
+                let mut best: Option<(usize, Vec<Vec<VertexId>>)> = None;
+                for pair in [[i, j], [j, i]] {
+                    if let Some(ps) = replan(paths, &pair, before - 1)? {
+                        let total = cost(&ps[0], pair[0]) + cost(&ps[1], pair[1]);
+                        if total < before && best.as_ref().is_none_or(|(b, _)| total < *b) {
+                            let mut ordered = ps;
+                            if pair[0] == j {
+                                ordered.swap(0, 1);
+                            }
+                            best = Some((total, ordered));
+                        }
+                    }
+                }
+                if let Some((_, mut ps)) = best {
+                    paths[j] = ps.pop().expect("two paths");
+                    paths[i] = ps.pop().expect("two paths");
+                    improved = true;
+                    break;
+                }
+            }
+        }
+        if !improved {
+            break;
         }
     }
+    Ok(())
 }
 
 #[cfg(test)]

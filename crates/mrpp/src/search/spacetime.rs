@@ -8,7 +8,7 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
-use rustc_hash::{FxHashMap, FxHashSet};
+use rustc_hash::FxHashMap;
 
 use crate::graph::{Graph, VertexId};
 use crate::solve::Deadline;
@@ -16,11 +16,13 @@ use crate::solve::Deadline;
 const NEVER: u32 = u32::MAX;
 
 /// Vertex and edge reservations over time, plus vertices held forever by parked agents.
+///
+/// Stored per vertex as a short list of `(t, from)`: an agent is on the vertex at `t`, having come
+/// from `from` at `t - 1` (itself for a wait or a start). A vertex is reserved at few time steps,
+/// so a scan of its list is cheaper than hashing `(vertex, t)` pairs.
 #[derive(Debug, Clone)]
 pub struct Reservations {
-    vertex: FxHashSet<(VertexId, u32)>,
-    /// Directed moves `(from, to, arrival time)`.
-    edge: FxHashSet<(VertexId, VertexId, u32)>,
+    at: Vec<Vec<(u32, VertexId)>>,
     /// `parked[v] = t`: some agent sits on `v` for every step `>= t`.
     parked: Vec<u32>,
     /// Latest time at which `v` is reserved (`NEVER` when never).
@@ -31,8 +33,7 @@ pub struct Reservations {
 impl Reservations {
     pub fn new(num_vertices: usize) -> Self {
         Reservations {
-            vertex: FxHashSet::default(),
-            edge: FxHashSet::default(),
+            at: vec![Vec::new(); num_vertices],
             parked: vec![NEVER; num_vertices],
             last: vec![NEVER; num_vertices],
             horizon: 0,
@@ -43,15 +44,10 @@ impl Reservations {
     pub fn reserve_path(&mut self, path: &[VertexId], t0: u32, park: bool) {
         for (k, &v) in path.iter().enumerate() {
             let t = t0 + k as u32;
-            self.vertex.insert((v, t));
-            self.last[v as usize] = if self.last[v as usize] == NEVER {
-                t
-            } else {
-                self.last[v as usize].max(t)
-            };
-            if k > 0 {
-                self.edge.insert((path[k - 1], v, t));
-            }
+            let from = if k > 0 { path[k - 1] } else { v };
+            self.at[v as usize].push((t, from));
+            let last = &mut self.last[v as usize];
+            *last = if *last == NEVER { t } else { (*last).max(t) };
             self.horizon = self.horizon.max(t);
         }
         if park && let Some(&v) = path.last() {
@@ -63,13 +59,18 @@ impl Reservations {
     /// Whether `v` is free at time `t`.
     #[inline]
     pub fn vertex_free(&self, v: VertexId, t: u32) -> bool {
-        self.parked[v as usize] > t && !self.vertex.contains(&(v, t))
+        self.parked[v as usize] > t && !self.at[v as usize].iter().any(|&(tt, _)| tt == t)
     }
 
-    /// Whether an agent may move (or wait, when `u == v`) from `u` at `t - 1` to `v` at `t`.
+    /// Whether an agent may move (or wait, when `u == v`) from `u` at `t - 1` to `v` at `t`:
+    /// `v` is free at `t` and no agent moves `v -> u` at the same step (a swap).
     #[inline]
     pub fn move_free(&self, u: VertexId, v: VertexId, t: u32) -> bool {
-        self.vertex_free(v, t) && (u == v || !self.edge.contains(&(v, u, t)))
+        self.vertex_free(v, t)
+            && (u == v
+                || !self.at[u as usize]
+                    .iter()
+                    .any(|&(tt, from)| tt == t && from == v))
     }
 
     /// Whether `v` is free at every step `>= t`.
@@ -92,7 +93,8 @@ pub struct Query<'a> {
     pub start_time: u32,
     /// Admissible estimate of the remaining cost to the goal.
     pub h: &'a dyn Fn(VertexId) -> u32,
-    /// Full search: give up past this time. Windowed search: ignored.
+    /// Full search: only paths arriving by this time (states that cannot are pruned with `h`).
+    /// Windowed search: ignored.
     pub max_time: u32,
     /// `Some(w)`: depth-limited search; states at `start_time + w` are terminal with cost `g + h`.
     pub window: Option<u32>,
@@ -129,8 +131,8 @@ pub fn space_time_astar(q: &Query, res: &Reservations) -> Search {
     // (f, g, insertion order, node index, terminal): max-heap on lower f, then higher g.
     type Entry = (Reverse<u32>, u32, Reverse<u32>, u32, bool);
     let mut open: BinaryHeap<Entry> = BinaryHeap::new();
-    let mut best_g: FxHashMap<(VertexId, u32), u32> = FxHashMap::default();
-    let mut closed: FxHashSet<(VertexId, u32)> = FxHashSet::default();
+    // Per state: best g so far, and whether it has been expanded (closed).
+    let mut seen: FxHashMap<(VertexId, u32), (u32, bool)> = FxHashMap::default();
     let mut counter = 0u32;
     nodes.push(Node {
         v: q.start,
@@ -138,7 +140,7 @@ pub fn space_time_astar(q: &Query, res: &Reservations) -> Search {
         parent: u32::MAX,
     });
     open.push((Reverse(h(q.start)), 0, Reverse(counter), 0, false));
-    best_g.insert((q.start, q.start_time), 0);
+    seen.insert((q.start, q.start_time), (0, false));
     let end_time = q.window.map(|w| q.start_time + w);
     let mut expansions = 0u64;
     while let Some((_, g, _, idx, terminal)) = open.pop() {
@@ -153,8 +155,9 @@ pub fn space_time_astar(q: &Query, res: &Reservations) -> Search {
             path.reverse();
             return Search::Found(path);
         }
-        if !closed.insert((v, t)) {
-            continue;
+        match seen.get_mut(&(v, t)) {
+            Some((_, closed @ false)) => *closed = true,
+            _ => continue,
         }
         expansions += 1;
         if expansions.is_multiple_of(1024) && q.deadline.expired() {
@@ -180,19 +183,20 @@ pub fn space_time_astar(q: &Query, res: &Reservations) -> Search {
         let nt = t + 1;
         let waits_free = end_time.is_some() && v == q.goal;
         for &w in std::iter::once(&v).chain(q.graph.neighbors(v)) {
-            if !res.move_free(v, w, nt) || closed.contains(&(w, nt)) {
+            if !res.move_free(v, w, nt) {
                 continue;
             }
             let hw = h(w);
-            if hw == u32::MAX {
+            // Unreachable, or (full mode) cannot arrive by `max_time` even unobstructed.
+            if hw == u32::MAX || (end_time.is_none() && nt.saturating_add(hw) > q.max_time) {
                 continue;
             }
             let ng = g + if w == v && waits_free { 0 } else { 1 };
-            let e = best_g.entry((w, nt)).or_insert(u32::MAX);
-            if ng >= *e {
+            let e = seen.entry((w, nt)).or_insert((u32::MAX, false));
+            if e.1 || ng >= e.0 {
                 continue;
             }
-            *e = ng;
+            e.0 = ng;
             nodes.push(Node {
                 v: w,
                 t: nt,
