@@ -8,10 +8,14 @@ use std::time::{Duration, Instant};
 
 use clap::{Parser, Subcommand, ValueEnum};
 
+mod experiment;
+mod plots;
+
 use mrpp::grid_mapf::{PlannerSpec, build_planner};
 use mrpp::io::lacam::{parse_lacam, write_lacam};
 use mrpp::io::plan_json::PlanFile;
 use mrpp::io::render::render_svg;
+use mrpp::search::distance::lower_bounds;
 use mrpp::solve::{Deadline, SolveOptions, Unsolved, solve};
 use mrpp::{GridMap, Instance, Plan, ValidateOptions};
 
@@ -88,6 +92,9 @@ enum Command {
         #[arg(long)]
         agents: Option<usize>,
     },
+    /// Reproduce a paper's table (see docs/reproduction/).
+    #[command(subcommand)]
+    Experiment(experiment::Experiment),
     /// Draw a plan (map, starts, goals, paths) as an SVG picture.
     Render {
         #[arg(long)]
@@ -100,7 +107,7 @@ enum Command {
 }
 
 /// A failure that ends the command with exit code 1 and one message.
-struct Fail(String);
+pub(crate) struct Fail(pub(crate) String);
 
 impl<E: std::fmt::Display> From<E> for Fail {
     fn from(e: E) -> Self {
@@ -154,6 +161,7 @@ fn main() -> ExitCode {
         } => cmd_validate(&map, &plan, scen.as_deref(), agents),
         Command::Info { map, scen, agents } => cmd_info(&map, &scen, agents),
         Command::Render { map, plan, out } => cmd_render(&map, &plan, &out),
+        Command::Experiment(e) => experiment::run(e),
     };
     match result {
         Ok(code) => ExitCode::from(code),
@@ -166,7 +174,7 @@ fn main() -> ExitCode {
 
 /// Writes `contents` to `path` through a temporary file in the same directory, so a reader never
 /// sees half a file.
-fn write_atomic(path: &Path, contents: &str) -> Result<(), Fail> {
+pub(crate) fn write_atomic(path: &Path, contents: &str) -> Result<(), Fail> {
     let dir = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
@@ -365,22 +373,14 @@ fn cmd_info(map_path: &Path, scen_path: &Path, agents: Option<usize>) -> Result<
     let inst = Instance::load(scen_path, &map, agents)?;
     let g = map.graph();
     let corridors = mrpp::grid_mapf::corridors::Corridors::build(g);
-    let tables = mrpp::search::distance::goal_distance_tables(g, &inst.goals);
-    let mut sum = 0u64;
-    let mut max = 0u64;
-    for (i, d) in tables.iter().enumerate() {
-        let di = d[inst.starts[i] as usize];
-        if di == mrpp::search::distance::UNREACHABLE {
-            return Err(Fail(format!(
-                "{}: agent {i} cannot reach its goal {} from {}",
-                scen_path.display(),
-                g.label(inst.goals[i]),
-                g.label(inst.starts[i])
-            )));
-        }
-        sum += u64::from(di);
-        max = max.max(u64::from(di));
-    }
+    let (sum, max) = lower_bounds(g, &inst.starts, &inst.goals).map_err(|i| {
+        Fail(format!(
+            "{}: agent {i} cannot reach its goal {} from {}",
+            scen_path.display(),
+            g.label(inst.goals[i]),
+            g.label(inst.starts[i])
+        ))
+    })?;
     println!(
         "map {} {}x{} | free cells {} | corridor-compressed nodes {} | agents {}",
         file_name(map_path),

@@ -373,3 +373,87 @@ fn info_reports_lower_bounds() {
         "{out}"
     );
 }
+
+#[test]
+fn hstar_table2_experiment_writes_its_files() {
+    let out = tmp("table2");
+    let o = mrpp(&[
+        "experiment",
+        "hstar-table2",
+        "--runs",
+        "1",
+        "--planners",
+        "hstar,whca",
+        "--data",
+        &data("hstar-paper"),
+        "--out",
+        out.to_str().unwrap(),
+        "--save-plans",
+    ]);
+    let (stdout, err) = text(&o);
+    assert_eq!(o.status.code(), Some(0), "{stdout}\n{err}");
+    assert!(
+        stdout.contains("seed 0") && stdout.contains(env!("CARGO_PKG_VERSION")),
+        "{stdout}"
+    );
+    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    let lines: Vec<&str> = csv.lines().collect();
+    assert_eq!(
+        lines[0],
+        "scenario,robots,planner,run,seed,solved,max,sum,runtime_ms"
+    );
+    assert_eq!(lines.len(), 1 + 19 * 2);
+    // H* solves every row; each of its saved plans passes both checkers.
+    let hstar: Vec<&str> = lines
+        .iter()
+        .copied()
+        .filter(|l| l.contains(",hstar,"))
+        .collect();
+    assert_eq!(hstar.len(), 19);
+    assert!(hstar.iter().all(|l| l.contains(",true,")), "{csv}");
+    let table = std::fs::read_to_string(out.join("table2.md")).unwrap();
+    assert_eq!(
+        table.lines().filter(|l| l.starts_with("| 1 |")).count(),
+        20,
+        "{table}"
+    );
+    assert!(
+        std::fs::read_to_string(out.join("fig5.svg"))
+            .unwrap()
+            .starts_with("<svg")
+    );
+    for (map, file) in [
+        ("hstar-paper/scenario1/scenery.txt", "1-15-hstar-0.json"),
+        (
+            "hstar-paper/scenario2/scenery_4rooms_B.txt",
+            "2-24-hstar-0.json",
+        ),
+        (
+            "hstar-paper/scenario3/scenery_warehouse.txt",
+            "3-30-hstar-0.json",
+        ),
+    ] {
+        let plan = out.join("plans").join(file);
+        assert_eq!(validate(&data(map), &plan).0, 0, "{file}");
+        assert!(check(&data(map), &plan).0, "{file}");
+    }
+    // Unknown planners and absurd run counts are usage errors.
+    let o = mrpp(&[
+        "experiment",
+        "hstar-table2",
+        "--runs",
+        "0",
+        "--data",
+        &data("hstar-paper"),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let o = mrpp(&[
+        "experiment",
+        "hstar-table2",
+        "--planners",
+        "nope",
+        "--data",
+        &data("hstar-paper"),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+}

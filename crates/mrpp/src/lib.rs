@@ -19,4 +19,5 @@ pub mod experiments;
 pub mod grid_mapf;
 pub mod io;
 pub mod search;
+pub mod seeds;
 pub mod solve;

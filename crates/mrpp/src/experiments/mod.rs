@@ -1,3 +1,4 @@
 //! Paper tables and figures, each a function returning rows (the CLI writes files and draws).
 
 pub mod hstar_instances;
+pub mod hstar_table2;

@@ -59,6 +59,26 @@ pub fn descend(g: &Graph, dist: &[u32], from: VertexId) -> Vec<VertexId> {
     route
 }
 
+/// Lower bounds that any valid plan meets: the sum and the maximum over agents of the start–goal
+/// distance (each agent alone on the map). `Err(i)` when agent `i` cannot reach its goal.
+pub fn lower_bounds(
+    g: &Graph,
+    starts: &[VertexId],
+    goals: &[VertexId],
+) -> Result<(u64, u64), usize> {
+    let mut sum = 0u64;
+    let mut max = 0u64;
+    for (i, (&s, &goal)) in starts.iter().zip(goals).enumerate() {
+        let d = bfs_distances(g, goal)[s as usize];
+        if d == UNREACHABLE {
+            return Err(i);
+        }
+        sum += u64::from(d);
+        max = max.max(u64::from(d));
+    }
+    Ok((sum, max))
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

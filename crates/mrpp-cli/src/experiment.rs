@@ -1,0 +1,371 @@
+//! `mrpp experiment ...`: runs a paper's table, shows progress, writes CSV, Markdown and SVG.
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use clap::{Subcommand, ValueEnum};
+use indicatif::{ProgressBar, ProgressStyle};
+
+use mrpp::experiments::hstar_instances::Scenario2Map;
+use mrpp::experiments::hstar_table2::{
+    LoadedInstance, RunRow, Table2Config, job_count, load_paper_table2, load_table1,
+    render_table2_markdown, run_table2, summarize, table2_methods,
+};
+use mrpp::io::plan_json::PlanFile;
+use mrpp::search::distance::lower_bounds;
+
+use crate::plots::{Panel, Series, line_panels};
+use crate::{Fail, write_atomic};
+
+#[derive(Clone, Copy, ValueEnum)]
+pub enum Sc2Map {
+    /// `scenery_4rooms_B.txt`: four open rooms (the paper's description; default).
+    Open,
+    /// `scenery_4rooms.txt`: each room holds the Scenario-1 obstacles.
+    Obstacles,
+}
+
+#[derive(Subcommand)]
+pub enum Experiment {
+    /// Table II of the H* paper: Enol2023, WHCA*, NSGA-III and H* on Table I's instances.
+    HstarTable2 {
+        /// Runs per (instance, method); the paper uses 10.
+        #[arg(long, default_value_t = 10)]
+        runs: usize,
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// Output directory (results.csv, table2.md, fig5.svg, plans/).
+        #[arg(long, default_value = "out/hstar-table2")]
+        out: PathBuf,
+        /// Also write every solved plan as plans/<scenario>-<robots>-<planner>-<run>.json.
+        #[arg(long)]
+        save_plans: bool,
+        /// Directory holding scenario1/ .. scenario3/ and table2-paper.csv.
+        #[arg(long, default_value = "data/hstar-paper")]
+        data: PathBuf,
+        #[arg(long, value_enum, default_value_t = Sc2Map::Open)]
+        sc2_map: Sc2Map,
+        /// Wall-clock limit of one run, in seconds.
+        #[arg(long, default_value_t = 30.0)]
+        time_limit: f64,
+        /// Only these planners (comma-separated: coevolution, whca, nsga3, hstar).
+        #[arg(long, value_delimiter = ',')]
+        planners: Option<Vec<String>>,
+    },
+}
+
+pub fn run(cmd: Experiment) -> Result<u8, Fail> {
+    match cmd {
+        Experiment::HstarTable2 {
+            runs,
+            seed,
+            out,
+            save_plans,
+            data,
+            sc2_map,
+            time_limit,
+            planners,
+        } => hstar_table2(
+            runs, seed, &out, save_plans, &data, sc2_map, time_limit, planners,
+        ),
+    }
+}
+
+#[allow(clippy::too_many_arguments)]
+fn hstar_table2(
+    runs: usize,
+    seed: u64,
+    out: &Path,
+    save_plans: bool,
+    data: &Path,
+    sc2_map: Sc2Map,
+    time_limit: f64,
+    planners: Option<Vec<String>>,
+) -> Result<u8, Fail> {
+    if !(1..=1000).contains(&runs) {
+        return Err(Fail(format!(
+            "--runs must be between 1 and 1000, got {runs}"
+        )));
+    }
+    if !(time_limit.is_finite() && time_limit > 0.0 && time_limit <= 1e6) {
+        return Err(Fail(format!(
+            "--time-limit must be a positive number of seconds, got {time_limit}"
+        )));
+    }
+    if !data.join("scenario1").is_dir() {
+        return Err(Fail(format!(
+            "{}: no scenario1/ here; pass --data with the directory of the H* paper's files (the repository's data/hstar-paper)",
+            data.display()
+        )));
+    }
+    let mut methods = table2_methods();
+    if let Some(keep) = &planners {
+        for k in keep {
+            if !methods.iter().any(|m| &m.spec.name == k) {
+                return Err(Fail(format!(
+                    "--planners: unknown planner `{k}` (known: coevolution, whca, nsga3, hstar)"
+                )));
+            }
+        }
+        methods.retain(|m| keep.contains(&m.spec.name));
+    }
+    let scenario2_map = match sc2_map {
+        Sc2Map::Open => Scenario2Map::OpenRooms,
+        Sc2Map::Obstacles => Scenario2Map::ObstacleRooms,
+    };
+    let cfg = Table2Config {
+        runs,
+        seed,
+        scenario2_map,
+        methods,
+        time_limit: Duration::from_secs_f64(time_limit),
+    };
+    let paper = load_paper_table2(&data.join("table2-paper.csv"))?;
+    let instances = load_table1(data, scenario2_map)?;
+    std::fs::create_dir_all(out)
+        .map_err(|e| Fail(format!("{}: cannot create: {e}", out.display())))?;
+
+    let jobs = job_count(&instances, &cfg);
+    println!(
+        "mrpp {} | experiment hstar-table2 | seed {seed} | runs {runs} | {} instances x {} methods = {jobs} jobs | threads {}",
+        env!("CARGO_PKG_VERSION"),
+        instances.len(),
+        cfg.methods.len(),
+        rayon_threads()
+    );
+    let bar = ProgressBar::new(jobs as u64);
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{bar:40} {pos}/{len} runs  {elapsed_precise} (eta {eta})  {msg}",
+        )
+        .expect("static template"),
+    );
+    let started = Instant::now();
+    let rows = run_table2(&instances, &cfg, &|row: &RunRow| {
+        bar.set_message(format!("SC{} {} {}", row.scenario, row.label, row.planner));
+        bar.inc(1);
+    })?;
+    bar.finish_and_clear();
+    let wall = started.elapsed().as_secs_f64();
+
+    write_atomic(&out.join("results.csv"), &results_csv(&rows)?)?;
+    let command = format!(
+        "mrpp experiment hstar-table2 --runs {runs} --seed {seed} --sc2-map {} --time-limit {time_limit}",
+        match sc2_map {
+            Sc2Map::Open => "open",
+            Sc2Map::Obstacles => "obstacles",
+        }
+    );
+    let md = table2_page(&instances, &rows, &cfg, &paper, &command, wall);
+    write_atomic(&out.join("table2.md"), &md)?;
+    write_atomic(
+        &out.join("fig5.svg"),
+        &fig5(&instances, &rows, &cfg, &paper)?,
+    )?;
+    if save_plans {
+        let dir = out.join("plans");
+        std::fs::create_dir_all(&dir)
+            .map_err(|e| Fail(format!("{}: cannot create: {e}", dir.display())))?;
+        for row in rows.iter().filter(|r| r.solved) {
+            let li = instances
+                .iter()
+                .find(|li| li.info.scenario == row.scenario && li.info.robots == row.robots)
+                .expect("row of a loaded instance");
+            let plan = row.plan.as_ref().expect("solved rows carry their plan");
+            let metrics = plan
+                .validate(li.map.graph(), &li.inst, Default::default())
+                .map_err(|v| Fail(v.describe(li.map.graph())))?;
+            let map_file = li
+                .info
+                .map
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            let file = PlanFile::new(
+                &li.map,
+                &map_file,
+                &row.planner,
+                row.seed,
+                &li.inst,
+                Some((plan, metrics)),
+                row.runtime_ms,
+            );
+            let name = format!(
+                "{}-{}-{}-{}.json",
+                row.scenario, row.robots, row.planner, row.run
+            );
+            write_atomic(&dir.join(name), &file.to_json())?;
+        }
+    }
+    let solved = rows.iter().filter(|r| r.solved).count();
+    println!(
+        "{solved}/{} runs solved in {wall:.1} s; wrote {}/results.csv, table2.md, fig5.svg{}",
+        rows.len(),
+        out.display(),
+        if save_plans { ", plans/" } else { "" }
+    );
+    Ok(0)
+}
+
+fn rayon_threads() -> usize {
+    std::thread::available_parallelism()
+        .map(|n| n.get())
+        .unwrap_or(1)
+        .min(
+            std::env::var("RAYON_NUM_THREADS")
+                .ok()
+                .and_then(|v| v.parse().ok())
+                .unwrap_or(usize::MAX),
+        )
+}
+
+fn results_csv(rows: &[RunRow]) -> Result<String, Fail> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record([
+        "scenario",
+        "robots",
+        "planner",
+        "run",
+        "seed",
+        "solved",
+        "max",
+        "sum",
+        "runtime_ms",
+    ])?;
+    for r in rows {
+        w.write_record([
+            r.scenario.to_string(),
+            r.robots.to_string(),
+            r.planner.clone(),
+            r.run.to_string(),
+            r.seed.to_string(),
+            r.solved.to_string(),
+            r.max.map(|v| v.to_string()).unwrap_or_default(),
+            r.sum.map(|v| v.to_string()).unwrap_or_default(),
+            format!("{:.3}", r.runtime_ms),
+        ])?;
+    }
+    String::from_utf8(w.into_inner().map_err(|e| Fail(e.to_string()))?)
+        .map_err(|e| Fail(e.to_string()))
+}
+
+fn table2_page(
+    instances: &[LoadedInstance],
+    rows: &[RunRow],
+    cfg: &Table2Config,
+    paper: &[mrpp::experiments::hstar_table2::PaperCell],
+    command: &str,
+    wall: f64,
+) -> String {
+    let mut s = String::new();
+    s.push_str("# H* paper, Table II: Max / Sum of path lengths\n\n");
+    s.push_str(&format!(
+        "`{command}` — mrpp {}, {} runs per cell, wall time {wall:.1} s.\n\n",
+        env!("CARGO_PKG_VERSION"),
+        cfg.runs
+    ));
+    s.push_str(
+        "Ours: mean makespan / mean sum of costs (waits count) over the runs that returned a valid plan; \
+         `(k/R)` when only k of R runs did; empty when none did. Paper: its Table II (empty = paths with collisions).\n\n",
+    );
+    s.push_str(&render_table2_markdown(
+        instances,
+        rows,
+        &cfg.methods,
+        paper,
+    ));
+    s.push_str("\nLower bounds (each robot's shortest distance, others ignored) and mean runtime of our runs:\n\n");
+    s.push_str("| SC | robots | LB Max / Sum |");
+    for m in &cfg.methods {
+        s.push_str(&format!(" {} ms |", m.column));
+    }
+    s.push_str("\n|---|---|---|");
+    for _ in &cfg.methods {
+        s.push_str("---|");
+    }
+    s.push('\n');
+    for li in instances {
+        let lb = lower_bounds(li.map.graph(), &li.inst.starts, &li.inst.goals)
+            .map(|(sum, max)| format!("{max} / {sum}"))
+            .unwrap_or_else(|i| format!("agent {i} cannot reach its goal"));
+        s.push_str(&format!(
+            "| {} | {} | {lb} |",
+            li.info.scenario, li.info.label
+        ));
+        for m in &cfg.methods {
+            let times: Vec<f64> = rows
+                .iter()
+                .filter(|r| {
+                    r.scenario == li.info.scenario
+                        && r.robots == li.info.robots
+                        && r.column == m.column
+                })
+                .map(|r| r.runtime_ms)
+                .collect();
+            let mean = times.iter().sum::<f64>() / times.len().max(1) as f64;
+            s.push_str(&format!(" {mean:.1} |"));
+        }
+        s.push('\n');
+    }
+    s
+}
+
+fn fig5(
+    instances: &[LoadedInstance],
+    rows: &[RunRow],
+    cfg: &Table2Config,
+    paper: &[mrpp::experiments::hstar_table2::PaperCell],
+) -> Result<String, Fail> {
+    let mut panels = Vec::new();
+    for sc in 1..=3u8 {
+        let here: Vec<&LoadedInstance> = instances
+            .iter()
+            .filter(|li| li.info.scenario == sc)
+            .collect();
+        let mut series = Vec::new();
+        for m in &cfg.methods {
+            let points: Vec<(f64, f64)> = here
+                .iter()
+                .filter_map(|li| {
+                    let c = summarize(rows, sc, li.info.robots, &m.column);
+                    c.mean_sum
+                        .map(|s| (li.info.robots as f64, s / li.info.robots as f64))
+                })
+                .collect();
+            series.push(Series {
+                name: m.column.clone(),
+                points,
+                paper: false,
+            });
+            let paper_points: Vec<(f64, f64)> = here
+                .iter()
+                .filter_map(|li| {
+                    paper
+                        .iter()
+                        .find(|p| {
+                            p.scenario == sc && p.robots == li.info.robots && p.column == m.column
+                        })
+                        .and_then(|p| p.max_sum)
+                        .map(|(_, sum)| (li.info.robots as f64, sum / li.info.robots as f64))
+                })
+                .collect();
+            if !paper_points.is_empty() {
+                series.push(Series {
+                    name: format!("{} (paper)", m.column),
+                    points: paper_points,
+                    paper: true,
+                });
+            }
+        }
+        panels.push(Panel {
+            title: format!("Scenario {sc}"),
+            series,
+        });
+    }
+    line_panels(
+        "Average path length per robot (Sum / robots); lines: mrpp, circles: paper",
+        "average path length",
+        &panels,
+    )
+    .map_err(Fail)
+}
