@@ -49,7 +49,7 @@ enum Command {
         /// Use the first N agents of the scenario (default: all).
         #[arg(long)]
         agents: Option<usize>,
-        /// Planner: hstar, ca, hca, whca.
+        /// Planner: hstar, ca, hca, whca, coevolution, nsga3.
         #[arg(long)]
         planner: String,
         /// Seed of every random choice.
@@ -61,7 +61,8 @@ enum Command {
         /// WHCA* window.
         #[arg(long)]
         window: Option<u32>,
-        /// H* variant: repaired (default) or paper (the paper's steps only).
+        /// H* variant: repaired (default) or paper (the paper's steps only); coevolution variant:
+        /// intended (default) or inverted (the authors' inverted collision count).
         #[arg(long)]
         variant: Option<String>,
         /// Write the plan here (also written when not solved, with "solved": false).

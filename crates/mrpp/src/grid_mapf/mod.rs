@@ -1,6 +1,7 @@
 //! Planners for MAPF on 4-connected grids (they work on any [`crate::Graph`] with coordinates):
 //! H* (the paper's hybrid greedy planner) and the cooperative A* family (CA*, HCA*, WHCA*).
 
+pub mod coevolution;
 pub mod cooperative;
 pub mod corridors;
 pub mod hstar;
@@ -15,12 +16,13 @@ pub struct PlannerSpec {
     pub name: String,
     /// WHCA* window (default 8).
     pub window: Option<u32>,
-    /// H* variant: `repaired` (default) or `paper`.
+    /// H* variant: `repaired` (default) or `paper`; coevolution: `intended` (default) or
+    /// `inverted` (the authors' inverted collision count).
     pub variant: Option<String>,
 }
 
 /// Names accepted by [`build_planner`].
-pub const PLANNER_NAMES: &[&str] = &["hstar", "ca", "hca", "whca"];
+pub const PLANNER_NAMES: &[&str] = &["hstar", "ca", "hca", "whca", "coevolution"];
 
 /// Builds the planner a spec names; options that do not apply to it are refused, not ignored.
 pub fn build_planner(spec: &PlannerSpec) -> Result<Box<dyn Planner>> {
@@ -67,6 +69,24 @@ pub fn build_planner(spec: &PlannerSpec) -> Result<Box<dyn Planner>> {
                 ))),
                 _ => refuse("window"),
             }
+        }
+        "coevolution" => {
+            if spec.window.is_some() {
+                return refuse("window");
+            }
+            let inverted_fitness = match spec.variant.as_deref() {
+                None | Some("intended") => false,
+                Some("inverted") => true,
+                Some(other) => {
+                    return Err(Error::Param(format!(
+                        "unknown coevolution variant `{other}` (known: intended, inverted)"
+                    )));
+                }
+            };
+            Ok(Box::new(coevolution::Coevolution {
+                inverted_fitness,
+                ..coevolution::Coevolution::default()
+            }))
         }
         other => Err(Error::Param(format!(
             "unknown planner `{other}` (known: {})",
