@@ -15,6 +15,7 @@ pub use graph::{Graph, VertexId};
 pub use grid::GridMap;
 pub use instance::Instance;
 pub use plan::{GoalSemantics, Metrics, Plan, ValidateOptions, Violation};
+pub mod evo;
 pub mod experiments;
 pub mod grid_mapf;
 pub mod io;

@@ -5,6 +5,7 @@ pub mod coevolution;
 pub mod cooperative;
 pub mod corridors;
 pub mod hstar;
+pub mod nsga3;
 
 use crate::error::{Error, Result};
 use crate::solve::Planner;
@@ -22,7 +23,7 @@ pub struct PlannerSpec {
 }
 
 /// Names accepted by [`build_planner`].
-pub const PLANNER_NAMES: &[&str] = &["hstar", "ca", "hca", "whca", "coevolution"];
+pub const PLANNER_NAMES: &[&str] = &["hstar", "ca", "hca", "whca", "coevolution", "nsga3"];
 
 /// Builds the planner a spec names; options that do not apply to it are refused, not ignored.
 pub fn build_planner(spec: &PlannerSpec) -> Result<Box<dyn Planner>> {
@@ -87,6 +88,15 @@ pub fn build_planner(spec: &PlannerSpec) -> Result<Box<dyn Planner>> {
                 inverted_fitness,
                 ..coevolution::Coevolution::default()
             }))
+        }
+        "nsga3" => {
+            if spec.window.is_some() {
+                return refuse("window");
+            }
+            if spec.variant.is_some() {
+                return refuse("variant");
+            }
+            Ok(Box::new(nsga3::Nsga3Planner::default()))
         }
         other => Err(Error::Param(format!(
             "unknown planner `{other}` (known: {})",

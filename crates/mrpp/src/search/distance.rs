@@ -59,6 +59,65 @@ pub fn descend(g: &Graph, dist: &[u32], from: VertexId) -> Vec<VertexId> {
     route
 }
 
+/// Distance of an unreachable vertex in [`dijkstra_distances`].
+pub const UNREACHED: u64 = u64::MAX;
+
+/// Dijkstra from `source` where stepping onto `v` costs `enter(v)` (> 0). Used where some cells
+/// should be avoided without being forbidden (e.g. other robots' goals).
+pub fn dijkstra_distances(
+    g: &Graph,
+    source: VertexId,
+    enter: &dyn Fn(VertexId) -> u64,
+) -> Vec<u64> {
+    use std::cmp::Reverse;
+    let mut dist = vec![UNREACHED; g.num_vertices()];
+    let mut heap = std::collections::BinaryHeap::new();
+    dist[source as usize] = 0;
+    heap.push(Reverse((0u64, source)));
+    while let Some(Reverse((d, u))) = heap.pop() {
+        if d > dist[u as usize] {
+            continue;
+        }
+        for &v in g.neighbors(u) {
+            let nd = d + enter(v);
+            if nd < dist[v as usize] {
+                dist[v as usize] = nd;
+                heap.push(Reverse((nd, v)));
+            }
+        }
+    }
+    dist
+}
+
+/// A least-cost route from `from` down a [`dijkstra_distances`] table (built with the same
+/// `enter`) to its source; ties: neighbour order. Empty when `from` cannot reach it. Because the
+/// table holds costs of routes *from* the source, a step from `v` to `w` is on a least-cost route
+/// when `table[w] + enter(v) == table[v]`.
+pub fn descend_weighted(
+    g: &Graph,
+    table: &[u64],
+    from: VertexId,
+    enter: &dyn Fn(VertexId) -> u64,
+) -> Vec<VertexId> {
+    if table[from as usize] == UNREACHED {
+        return Vec::new();
+    }
+    let mut route = vec![from];
+    let mut v = from;
+    while table[v as usize] > 0 {
+        let step = enter(v);
+        v = *g
+            .neighbors(v)
+            .iter()
+            .find(|&&w| {
+                table[w as usize] != UNREACHED && table[w as usize] + step == table[v as usize]
+            })
+            .expect("a Dijkstra table always has a predecessor");
+        route.push(v);
+    }
+    route
+}
+
 /// Lower bounds that any valid plan meets: the sum and the maximum over agents of the start–goal
 /// distance (each agent alone on the map). `Err(i)` when agent `i` cannot reach its goal.
 pub fn lower_bounds(
