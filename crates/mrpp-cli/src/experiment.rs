@@ -1,6 +1,6 @@
 //! `mrpp experiment ...`: runs a paper's table, shows progress, writes CSV, Markdown and SVG.
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
 use clap::{Subcommand, ValueEnum};
@@ -25,63 +25,65 @@ pub enum Sc2Map {
     Obstacles,
 }
 
+#[derive(Clone, Copy, ValueEnum)]
+pub enum Fitness {
+    Intended,
+    Inverted,
+}
+
 #[derive(Subcommand)]
 pub enum Experiment {
     /// Table II of the H* paper: Enol2023, WHCA*, NSGA-III and H* on Table I's instances.
-    HstarTable2 {
-        /// Runs per (instance, method); the paper uses 10.
-        #[arg(long, default_value_t = 10)]
-        runs: usize,
-        #[arg(long, default_value_t = 0)]
-        seed: u64,
-        /// Output directory (results.csv, table2.md, fig5.svg, plans/).
-        #[arg(long, default_value = "out/hstar-table2")]
-        out: PathBuf,
-        /// Also write every solved plan as plans/<scenario>-<robots>-<planner>-<run>.json.
-        #[arg(long)]
-        save_plans: bool,
-        /// Directory holding scenario1/ .. scenario3/ and table2-paper.csv.
-        #[arg(long, default_value = "data/hstar-paper")]
-        data: PathBuf,
-        #[arg(long, value_enum, default_value_t = Sc2Map::Open)]
-        sc2_map: Sc2Map,
-        /// Wall-clock limit of one run, in seconds.
-        #[arg(long, default_value_t = 30.0)]
-        time_limit: f64,
-        /// Only these planners (comma-separated: coevolution, whca, nsga3, hstar).
-        #[arg(long, value_delimiter = ',')]
-        planners: Option<Vec<String>>,
-    },
+    HstarTable2(HstarTable2Args),
+}
+
+#[derive(clap::Args)]
+pub struct HstarTable2Args {
+    /// Runs per (instance, method); the paper uses 10.
+    #[arg(long, default_value_t = 10)]
+    runs: usize,
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Output directory (results.csv, table2.md, fig5.svg, plans/).
+    #[arg(long, default_value = "out/hstar-table2")]
+    out: PathBuf,
+    /// Also write every solved plan as plans/<scenario>-<robots>-<planner>-<run>.json.
+    #[arg(long)]
+    save_plans: bool,
+    /// Directory holding scenario1/ .. scenario3/ and table2-paper.csv.
+    #[arg(long, default_value = "data/hstar-paper")]
+    data: PathBuf,
+    #[arg(long, value_enum, default_value_t = Sc2Map::Open)]
+    sc2_map: Sc2Map,
+    /// Wall-clock limit of one run, in seconds.
+    #[arg(long, default_value_t = 30.0)]
+    time_limit: f64,
+    /// Only these planners (comma-separated: coevolution, whca, nsga3, hstar).
+    #[arg(long, value_delimiter = ',')]
+    planners: Option<Vec<String>>,
+    /// Enol2023's collision count: intended, or inverted as in the authors' code.
+    #[arg(long, value_enum, default_value_t = Fitness::Intended)]
+    coevolution_fitness: Fitness,
 }
 
 pub fn run(cmd: Experiment) -> Result<u8, Fail> {
     match cmd {
-        Experiment::HstarTable2 {
-            runs,
-            seed,
-            out,
-            save_plans,
-            data,
-            sc2_map,
-            time_limit,
-            planners,
-        } => hstar_table2(
-            runs, seed, &out, save_plans, &data, sc2_map, time_limit, planners,
-        ),
+        Experiment::HstarTable2(args) => hstar_table2(&args),
     }
 }
 
-#[allow(clippy::too_many_arguments)]
-fn hstar_table2(
-    runs: usize,
-    seed: u64,
-    out: &Path,
-    save_plans: bool,
-    data: &Path,
-    sc2_map: Sc2Map,
-    time_limit: f64,
-    planners: Option<Vec<String>>,
-) -> Result<u8, Fail> {
+fn hstar_table2(args: &HstarTable2Args) -> Result<u8, Fail> {
+    let HstarTable2Args {
+        runs,
+        seed,
+        ref out,
+        save_plans,
+        ref data,
+        sc2_map,
+        time_limit,
+        ref planners,
+        coevolution_fitness,
+    } = *args;
     if !(1..=1000).contains(&runs) {
         return Err(Fail(format!(
             "--runs must be between 1 and 1000, got {runs}"
@@ -108,6 +110,11 @@ fn hstar_table2(
             }
         }
         methods.retain(|m| keep.contains(&m.spec.name));
+    }
+    if let Fitness::Inverted = coevolution_fitness {
+        for m in methods.iter_mut().filter(|m| m.spec.name == "coevolution") {
+            m.spec.variant = Some("inverted".into());
+        }
     }
     let scenario2_map = match sc2_map {
         Sc2Map::Open => Scenario2Map::OpenRooms,
@@ -150,11 +157,19 @@ fn hstar_table2(
 
     write_atomic(&out.join("results.csv"), &results_csv(&rows)?)?;
     let command = format!(
-        "mrpp experiment hstar-table2 --runs {runs} --seed {seed} --sc2-map {} --time-limit {time_limit}",
+        "mrpp experiment hstar-table2 --runs {runs} --seed {seed} --sc2-map {} --time-limit {time_limit} --coevolution-fitness {}{}",
         match sc2_map {
             Sc2Map::Open => "open",
             Sc2Map::Obstacles => "obstacles",
-        }
+        },
+        match coevolution_fitness {
+            Fitness::Intended => "intended",
+            Fitness::Inverted => "inverted",
+        },
+        planners
+            .as_ref()
+            .map(|p| format!(" --planners {}", p.join(",")))
+            .unwrap_or_default()
     );
     let md = table2_page(&instances, &rows, &cfg, &paper, &command, wall);
     write_atomic(&out.join("table2.md"), &md)?;
@@ -274,12 +289,16 @@ fn table2_page(
         &cfg.methods,
         paper,
     ));
-    s.push_str("\nLower bounds (each robot's shortest distance, others ignored) and mean runtime of our runs:\n\n");
-    s.push_str("| SC | robots | LB Max / Sum |");
+    s.push_str(
+        "\nLower bounds (each robot's shortest distance, others ignored); Enol2023's stage-1 routes \
+         (A* with private obstacles, before co-evolution: Max / Sum and the number of robot pairs still \
+         in conflict); mean runtime of our runs:\n\n",
+    );
+    s.push_str("| SC | robots | LB Max / Sum | Enol2023 stage 1 |");
     for m in &cfg.methods {
         s.push_str(&format!(" {} ms |", m.column));
     }
-    s.push_str("\n|---|---|---|");
+    s.push_str("\n|---|---|---|---|");
     for _ in &cfg.methods {
         s.push_str("---|");
     }
@@ -289,8 +308,10 @@ fn table2_page(
             .map(|(sum, max)| format!("{max} / {sum}"))
             .unwrap_or_else(|i| format!("agent {i} cannot reach its goal"));
         s.push_str(&format!(
-            "| {} | {} | {lb} |",
-            li.info.scenario, li.info.label
+            "| {} | {} | {lb} | {} |",
+            li.info.scenario,
+            li.info.label,
+            stage1(li)
         ));
         for m in &cfg.methods {
             let times: Vec<f64> = rows
@@ -308,6 +329,39 @@ fn table2_page(
         s.push('\n');
     }
     s
+}
+
+/// Enol2023's stage 1 alone: the A* routes with private obstacles, as Max / Sum (arrival steps) and
+/// how many robot pairs still conflict.
+fn stage1(li: &LoadedInstance) -> String {
+    use mrpp::grid_mapf::coevolution::{Coevolution, astar_with_private_obstacles, route_conflict};
+    let g = li.map.graph();
+    let Ok(stage) = astar_with_private_obstacles(
+        g,
+        &li.inst,
+        &Coevolution::default(),
+        mrpp::solve::Deadline::none(),
+    ) else {
+        return String::new();
+    };
+    let lengths: Vec<usize> = stage
+        .routes
+        .iter()
+        .zip(&li.inst.goals)
+        .map(|(r, &goal)| {
+            mrpp::plan::path_cost(r, goal, mrpp::GoalSemantics::Stay).unwrap_or(r.len() - 1)
+        })
+        .collect();
+    let n = stage.routes.len();
+    let pairs = (0..n)
+        .flat_map(|a| (a + 1..n).map(move |b| (a, b)))
+        .filter(|&(a, b)| route_conflict(&stage.routes[a], &stage.routes[b]).is_some())
+        .count();
+    format!(
+        "{} / {}, {pairs} pairs",
+        lengths.iter().max().unwrap_or(&0),
+        lengths.iter().sum::<usize>()
+    )
 }
 
 fn fig5(
