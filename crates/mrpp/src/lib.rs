@@ -22,3 +22,4 @@ pub mod io;
 pub mod search;
 pub mod seeds;
 pub mod solve;
+pub mod trees;
