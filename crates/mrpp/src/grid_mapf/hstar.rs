@@ -343,6 +343,31 @@ pub fn collision_elimination(
     })
 }
 
+/// Space-time A* for robot `i` from its start at time 0 against `res`, arriving by `max_time`,
+/// guided by its goal's distance table `dist`.
+fn plan_robot(
+    g: &Graph,
+    inst: &Instance,
+    dist: &[u32],
+    i: usize,
+    res: &Reservations,
+    max_time: u32,
+    deadline: Deadline,
+) -> Search {
+    let h = |v: VertexId| dist[v as usize];
+    let q = Query {
+        graph: g,
+        start: inst.starts[i],
+        goal: inst.goals[i],
+        start_time: 0,
+        h: &h,
+        max_time,
+        window: None,
+        deadline,
+    };
+    space_time_astar(&q, res)
+}
+
 /// Our extension (module doc): re-plan the robots that are short of their goals or in conflict
 /// with space-time A* against the other robots' paths; restart with a failing robot first.
 pub fn reservation_repair(
@@ -386,18 +411,8 @@ pub fn reservation_repair(
         }
         let mut failed = None;
         for &i in &order {
-            let h = |v: VertexId| dist[i][v as usize];
-            let q = Query {
-                graph: g,
-                start: inst.starts[i],
-                goal: inst.goals[i],
-                start_time: 0,
-                h: &h,
-                max_time: res.horizon() + nv as u32 + 1,
-                window: None,
-                deadline,
-            };
-            match space_time_astar(&q, &res) {
+            let max_time = res.horizon() + nv as u32 + 1;
+            match plan_robot(g, inst, &dist[i], i, &res, max_time, deadline) {
                 Search::Found(p) => {
                     res.reserve_path(&p, 0, true);
                     out[i] = p;
@@ -585,18 +600,7 @@ pub fn local_replanning(
             let Some(bound) = left.checked_sub(others) else {
                 return Ok(None);
             };
-            let h = |v: VertexId| dist[i][v as usize];
-            let q = Query {
-                graph: g,
-                start: inst.starts[i],
-                goal: inst.goals[i],
-                start_time: 0,
-                h: &h,
-                max_time: bound as u32,
-                window: None,
-                deadline,
-            };
-            match space_time_astar(&q, &res) {
+            match plan_robot(g, inst, &dist[i], i, &res, bound as u32, deadline) {
                 Search::Found(p) => {
                     res.reserve_path(&p, 0, true);
                     left -= cost(&p, i).min(left);
