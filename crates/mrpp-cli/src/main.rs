@@ -10,6 +10,7 @@ use clap::{Parser, Subcommand, ValueEnum};
 
 mod experiment;
 mod plots;
+mod trees_cmd;
 
 use mrpp::grid_mapf::{PlannerSpec, build_planner};
 use mrpp::io::lacam::{parse_lacam, write_lacam};
@@ -96,6 +97,9 @@ enum Command {
     /// Reproduce a paper's table (see docs/reproduction/).
     #[command(subcommand)]
     Experiment(experiment::Experiment),
+    /// Single-lane tree problems: generate, solve (PSW or GP), run a GP program, validate.
+    #[command(subcommand)]
+    Trees(trees_cmd::Trees),
     /// Draw a plan (map, starts, goals, paths) as an SVG picture.
     Render {
         #[arg(long)]
@@ -163,6 +167,7 @@ fn main() -> ExitCode {
         Command::Info { map, scen, agents } => cmd_info(&map, &scen, agents),
         Command::Render { map, plan, out } => cmd_render(&map, &plan, &out),
         Command::Experiment(e) => experiment::run(e),
+        Command::Trees(t) => trees_cmd::run(t),
     };
     match result {
         Ok(code) => ExitCode::from(code),

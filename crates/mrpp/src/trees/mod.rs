@@ -27,6 +27,7 @@
 //! [`validate_tree_plan`] / [`solve_tree`] instead.
 
 pub mod generator;
+pub mod gp;
 pub mod instance;
 pub mod psw;
 pub mod rooted;
