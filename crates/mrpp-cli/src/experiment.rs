@@ -35,6 +35,12 @@ pub enum Fitness {
 pub enum Experiment {
     /// Table II of the H* paper: Enol2023, WHCA*, NSGA-III and H* on Table I's instances.
     HstarTable2(HstarTable2Args),
+    /// Table 3 of the GP paper: a program evolved per tree problem vs Push-Swap-Wait.
+    GpTable3(crate::gp_experiment::GpTable3Args),
+    /// Table 4 of the GP paper: programs trained on |X| problems, tested on new ones, vs PSW.
+    GpTable4(crate::gp_experiment::GpTable4Args),
+    /// Table 5 of the GP paper: % solved by GP and PSW with 0.25–1.5 × leaves robots.
+    GpTable5(crate::gp_experiment::GpTable5Args),
 }
 
 #[derive(clap::Args)]
@@ -69,6 +75,9 @@ pub struct HstarTable2Args {
 pub fn run(cmd: Experiment) -> Result<u8, Fail> {
     match cmd {
         Experiment::HstarTable2(args) => hstar_table2(&args),
+        Experiment::GpTable3(args) => crate::gp_experiment::table3(&args),
+        Experiment::GpTable4(args) => crate::gp_experiment::table4(&args),
+        Experiment::GpTable5(args) => crate::gp_experiment::table5(&args),
     }
 }
 
@@ -222,7 +231,7 @@ fn hstar_table2(args: &HstarTable2Args) -> Result<u8, Fail> {
     Ok(0)
 }
 
-fn rayon_threads() -> usize {
+pub(crate) fn rayon_threads() -> usize {
     std::thread::available_parallelism()
         .map(|n| n.get())
         .unwrap_or(1)
@@ -390,6 +399,7 @@ fn fig5(
                 name: m.column.clone(),
                 points,
                 paper: false,
+                ..Series::default()
             });
             let paper_points: Vec<(f64, f64)> = here
                 .iter()
@@ -408,6 +418,7 @@ fn fig5(
                     name: format!("{} (paper)", m.column),
                     points: paper_points,
                     paper: true,
+                    ..Series::default()
                 });
             }
         }
@@ -418,6 +429,7 @@ fn fig5(
     }
     line_panels(
         "Average path length per robot (Sum / robots); lines: mrpp, circles: paper",
+        "robots",
         "average path length",
         &panels,
     )

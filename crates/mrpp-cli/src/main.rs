@@ -9,6 +9,7 @@ use std::time::{Duration, Instant};
 use clap::{Parser, Subcommand, ValueEnum};
 
 mod experiment;
+mod gp_experiment;
 mod plots;
 mod trees_cmd;
 

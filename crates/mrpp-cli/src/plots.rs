@@ -3,10 +3,13 @@
 use plotters::prelude::*;
 
 /// One line of a panel: `(x, y)` points, drawn solid (ours) or as hollow markers (the paper's).
+#[derive(Default)]
 pub struct Series {
     pub name: String,
     pub points: Vec<(f64, f64)>,
     pub paper: bool,
+    /// Error bars: ± this much around each point (the standard deviation); empty = none.
+    pub spread: Vec<f64>,
 }
 
 /// One panel of a figure.
@@ -24,12 +27,17 @@ const PALETTE: [RGBColor; 6] = [
     RGBColor(140, 86, 75),
 ];
 
-/// Panels side by side, x = robots, y = `y_desc`. Series with the same name share a colour.
-pub fn line_panels(title: &str, y_desc: &str, panels: &[Panel]) -> Result<String, String> {
+/// Panels side by side, x = `x_desc`, y = `y_desc`. Series with the same name share a colour.
+pub fn line_panels(
+    title: &str,
+    x_desc: &str,
+    y_desc: &str,
+    panels: &[Panel],
+) -> Result<String, String> {
     let mut svg = String::new();
     let err = |e: &dyn std::fmt::Display| e.to_string();
     {
-        let width = 420 * panels.len().max(1) as u32;
+        let width = (420 * panels.len().max(1) as u32).max(640);
         let root = SVGBackend::with_string(&mut svg, (width, 420)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| err(&e))?;
         let root = root
@@ -53,12 +61,13 @@ pub fn line_panels(title: &str, y_desc: &str, panels: &[Panel]) -> Result<String
             .iter()
             .zip(panels)
         {
-            let pts = panel.series.iter().flat_map(|s| s.points.iter());
             let (mut x0, mut x1, mut y1) = (f64::MAX, f64::MIN, 0f64);
-            for &(x, y) in pts {
-                x0 = x0.min(x);
-                x1 = x1.max(x);
-                y1 = y1.max(y);
+            for s in &panel.series {
+                for (k, &(x, y)) in s.points.iter().enumerate() {
+                    x0 = x0.min(x);
+                    x1 = x1.max(x);
+                    y1 = y1.max(y + s.spread.get(k).copied().unwrap_or(0.0));
+                }
             }
             if x0 > x1 {
                 (x0, x1) = (0.0, 1.0);
@@ -68,18 +77,25 @@ pub fn line_panels(title: &str, y_desc: &str, panels: &[Panel]) -> Result<String
                 .caption(&panel.title, ("sans-serif", 16))
                 .margin(12)
                 .x_label_area_size(32)
-                .y_label_area_size(48)
+                .y_label_area_size(60)
                 .build_cartesian_2d((x0 - pad)..(x1 + pad), 0f64..(y1 * 1.15).max(1.0))
                 .map_err(|e| err(&e))?;
             chart
                 .configure_mesh()
-                .x_desc("robots")
+                .x_desc(x_desc)
                 .y_desc(y_desc)
                 .light_line_style(WHITE.mix(0.0))
                 .draw()
                 .map_err(|e| err(&e))?;
             for s in &panel.series {
                 let c = colour(&s.name);
+                if !s.spread.is_empty() {
+                    chart
+                        .draw_series(s.points.iter().zip(&s.spread).map(|(&(x, y), &d)| {
+                            ErrorBar::new_vertical(x, (y - d).max(0.0), y, y + d, c.mix(0.6), 6)
+                        }))
+                        .map_err(|e| err(&e))?;
+                }
                 if s.paper {
                     chart
                         .draw_series(

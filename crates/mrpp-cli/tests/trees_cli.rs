@@ -618,3 +618,107 @@ fn validate_rejects_tampered_plans() {
     assert!(err.contains("bad.json:4:"), "{err}");
     cleanup("tamper");
 }
+
+/// The three GP experiments at toy size: every output file is written, the Markdown tables carry
+/// the paper's numbers beside ours, and the CSV rows are those of the problems asked for.
+#[test]
+fn gp_experiments_write_tables_csv_and_figures() {
+    let dir = tmp("experiments", "x");
+    let base = dir.parent().unwrap().to_path_buf();
+    let small = [
+        "--population",
+        "12",
+        "--generations",
+        "2",
+        "--runs",
+        "1",
+        "--depths",
+        "3-4",
+        "--seed",
+        "3",
+    ];
+    let out3 = base.join("t3");
+    let mut args = vec![
+        "experiment",
+        "gp-table3",
+        "--problems",
+        "4",
+        "--out",
+        s(&out3),
+    ];
+    args.extend(small);
+    let (stdout, _) = run(&args, 0);
+    assert!(stdout.contains("seed 3") && stdout.contains("| paper (1000 problems) | 73.3%"));
+    let csv = std::fs::read_to_string(out3.join("results.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 5, "{csv}");
+    for f in ["table3.md", "fig4.svg", "fig5.svg"] {
+        assert!(out3.join(f).exists(), "{f}");
+    }
+    assert!(
+        std::fs::read_to_string(out3.join("fig4.svg"))
+            .unwrap()
+            .contains("<svg")
+    );
+
+    let out4 = base.join("t4");
+    let mut args = vec![
+        "experiment",
+        "gp-table4",
+        "--problems",
+        "3",
+        "--train-sizes",
+        "1,2",
+        "--trials",
+        "1",
+        "--out",
+        s(&out4),
+    ];
+    args.extend(small);
+    let (stdout, _) = run(&args, 0);
+    // One row per |X|, each over its 3 test problems.
+    assert!(
+        stdout.contains("| 1 | ") && stdout.contains("| 2 | ") && stdout.contains(" / 3 |"),
+        "{stdout}"
+    );
+    let csv = std::fs::read_to_string(out4.join("results.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 7, "{csv}");
+    for f in ["programs.csv", "table4.md", "fig6.svg", "fig7.svg"] {
+        assert!(out4.join(f).exists(), "{f}");
+    }
+
+    let out5 = base.join("t5");
+    let mut args = vec![
+        "experiment",
+        "gp-table5",
+        "--problems",
+        "2",
+        "--multipliers",
+        "0.5,1.5",
+        "--out",
+        s(&out5),
+    ];
+    args.extend(small);
+    let (stdout, _) = run(&args, 0);
+    assert!(
+        stdout.contains("| 1.5 |") && stdout.contains("| 58 | 34 |"),
+        "{stdout}"
+    );
+    let csv = std::fs::read_to_string(out5.join("results.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 5, "{csv}");
+    assert!(out5.join("table5.svg").exists());
+
+    // Absurd parameters: one line, exit 1.
+    for bad in [
+        vec!["experiment", "gp-table3", "--problems", "0"],
+        vec!["experiment", "gp-table3", "--depths", "9-3"],
+        vec!["experiment", "gp-table5", "--multipliers", "-1"],
+        vec!["experiment", "gp-table4", "--train-sizes", "0"],
+        vec!["experiment", "gp-table3", "--population", "1"],
+    ] {
+        let o = mrpp(&bad);
+        let (_, err) = text(&o);
+        assert_eq!(o.status.code(), Some(1), "{bad:?}: {err}");
+        assert!(!err.contains("panicked"), "{err}");
+    }
+    cleanup("experiments");
+}

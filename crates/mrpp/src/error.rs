@@ -25,6 +25,9 @@ pub enum Error {
     /// A parameter is out of range or inconsistent.
     #[error("invalid parameter: {0}")]
     Param(String),
+    /// A bug in mrpp caught by a check (e.g. a plan the validator rejects): never the user's fault.
+    #[error("internal error: {0}")]
+    Internal(String),
 }
 
 pub type Result<T, E = Error> = std::result::Result<T, E>;
