@@ -193,15 +193,59 @@ fn header(name: &str, cfg: &GpExperimentConfig, jobs: usize) {
     );
 }
 
-fn bar(len: usize, unit: &str) -> ProgressBar {
-    let bar = ProgressBar::new(len as u64);
-    bar.set_style(
-        ProgressStyle::with_template(&format!(
-            "{{bar:40}} {{pos}}/{{len}} {unit}  {{elapsed_precise}} (eta {{eta}})  {{msg}}"
-        ))
-        .expect("static template"),
-    );
-    bar
+/// Progress on stderr: an indicatif bar on a terminal; otherwise (a log file, CI) one plain
+/// line per finished job, so long batch runs still show where they are.
+struct Progress {
+    bar: ProgressBar,
+    plain: bool,
+    len: usize,
+    unit: &'static str,
+    done: std::sync::atomic::AtomicUsize,
+    started: Instant,
+}
+
+impl Progress {
+    fn new(len: usize, unit: &'static str) -> Self {
+        let bar = ProgressBar::new(len as u64);
+        bar.set_style(
+            ProgressStyle::with_template(&format!(
+                "{{bar:40}} {{pos}}/{{len}} {unit}  {{elapsed_precise}} (eta {{eta}})  {{msg}}"
+            ))
+            .expect("static template"),
+        );
+        Progress {
+            bar,
+            plain: !std::io::IsTerminal::is_terminal(&std::io::stderr()),
+            len,
+            unit,
+            done: std::sync::atomic::AtomicUsize::new(0),
+            started: Instant::now(),
+        }
+    }
+
+    fn tick(&self, msg: String) {
+        let k = self.done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+        if self.plain {
+            eprintln!(
+                "[{:.0} s] {k}/{} {}: {msg}",
+                self.started.elapsed().as_secs_f64(),
+                self.len,
+                self.unit
+            );
+        } else {
+            self.bar.set_message(msg);
+            self.bar.inc(1);
+        }
+    }
+
+    fn finish(&self) {
+        self.bar.finish();
+    }
+}
+
+/// Steps for a progress line: the number, or `-` when not solved.
+fn show(v: Option<u64>) -> String {
+    v.map_or_else(|| "-".into(), |s| s.to_string())
 }
 
 fn opt(v: Option<u64>) -> String {
@@ -278,13 +322,19 @@ pub fn table3(args: &GpTable3Args) -> Result<u8, Fail> {
     let (cfg, problems) = c.config(100, 1000)?;
     let out = c.out("gp-table3")?;
     header("gp-table3", &cfg, problems);
-    let bar = bar(problems, "problems");
+    let bar = Progress::new(problems, "problems");
     let started = Instant::now();
     let rows = run_table3(&cfg, problems, &|r: &ProblemRow| {
-        bar.set_message(format!("{} nodes, {} robots", r.nodes, r.robots));
-        bar.inc(1);
+        bar.tick(format!(
+            "problem {}: {} nodes, {} robots, PSW {} / GP {} steps",
+            r.index,
+            r.nodes,
+            r.robots,
+            show(r.psw_steps),
+            show(r.gp_steps)
+        ));
     })?;
-    bar.finish_and_clear();
+    bar.finish();
     let wall = started.elapsed().as_secs_f64();
     write_atomic(&out.join("results.csv"), &problems_csv(&rows)?)?;
 
@@ -395,7 +445,7 @@ pub fn table4(args: &GpTable4Args) -> Result<u8, Fail> {
     let out = c.out("gp-table4")?;
     let jobs = args.train_sizes.len() * trials;
     header("gp-table4", &cfg, jobs);
-    let bar = bar(jobs, "trainings");
+    let bar = Progress::new(jobs, "trainings");
     let started = Instant::now();
     let (programs, rows) = run_table4(
         &cfg,
@@ -403,11 +453,13 @@ pub fn table4(args: &GpTable4Args) -> Result<u8, Fail> {
         trials,
         tests,
         &|p: &TrainedProgram| {
-            bar.set_message(format!("|X| = {} trial {}", p.train_size, p.trial));
-            bar.inc(1);
+            bar.tick(format!(
+                "|X| = {} trial {} (solved its training set: {})",
+                p.train_size, p.trial, p.solved_training_set
+            ));
         },
     )?;
-    bar.finish_and_clear();
+    bar.finish();
     let wall = started.elapsed().as_secs_f64();
 
     let mut w = csv::Writer::from_writer(Vec::new());
@@ -569,17 +621,19 @@ pub fn table5(args: &GpTable5Args) -> Result<u8, Fail> {
     let out = c.out("gp-table5")?;
     let jobs = problems * args.multipliers.len();
     header("gp-table5", &cfg, jobs);
-    let bar = bar(jobs, "problems");
+    let bar = Progress::new(jobs, "problems");
     let started = Instant::now();
     let rows = run_table5(&cfg, &args.multipliers, problems, &|r: &ProblemRow| {
-        bar.set_message(format!(
-            "x{} {} robots",
+        bar.tick(format!(
+            "x{} problem {}: {} robots, PSW {} / GP {} steps",
             r.multiplier.unwrap_or(0.0),
-            r.robots
+            r.index,
+            r.robots,
+            show(r.psw_steps),
+            show(r.gp_steps)
         ));
-        bar.inc(1);
     })?;
-    bar.finish_and_clear();
+    bar.finish();
     let wall = started.elapsed().as_secs_f64();
     write_atomic(&out.join("results.csv"), &problems_csv(&rows)?)?;
     let ms = args

@@ -407,11 +407,24 @@ fn solve_gp(
         },
     );
     bar.finish_and_clear();
-    let (outcome, program) = match result {
-        Ok(s) => (Ok(s.plan), Some(s.program)),
-        Err(e) => (Err(e), None),
+    let seconds = started.elapsed().as_secs_f64();
+    let (outcome, program, stats) = match result {
+        Ok(s) => (
+            Ok(s.plan),
+            Some(s.program),
+            Some((s.result.generations, s.result.evaluations)),
+        ),
+        Err(e) => (Err(e), None, None),
     };
     let code = report(ctx, "gp", program.as_ref(), outcome, started, out)?;
+    if let (Some((generations, evaluations)), Some(p)) = (stats, &program) {
+        println!(
+            "gp: {generations} generations | {evaluations} program evaluations ({:.0} per second) | program of {} nodes, depth {}",
+            evaluations as f64 / seconds.max(1e-9),
+            p.len(),
+            p.depth()
+        );
+    }
     match (save_program, &program) {
         (Some(path), Some(p)) => {
             // Through a temporary file, as every other output, then renamed into place.
