@@ -14,7 +14,6 @@ use mrpp::experiments::gp_trees::{
     Comparison, GpExperimentConfig, PAPER_TABLE3, PAPER_TABLE3_TOTALS, PAPER_TABLE4, PAPER_TABLE5,
     ProblemRow, TestRow, TrainedProgram, mean_by_x, run_table3, run_table4, run_table5, swap_ratio,
 };
-use mrpp::trees::gp::GpParams;
 
 use crate::plots::{Panel, Series, line_panels};
 use crate::{Fail, write_atomic};
@@ -28,19 +27,10 @@ pub struct GpCommon {
     problems: Option<usize>,
     #[arg(long, default_value_t = 0)]
     seed: u64,
-    /// The paper's settings: |P| = 2000, 5 runs of 400 generations, step cap M, and the paper's
-    /// problem counts (days of CPU time on 2 cores).
-    #[arg(long)]
-    paper_settings: bool,
-    /// |P| (default 200).
-    #[arg(long)]
-    population: Option<usize>,
-    /// i_g: generations per run (default 25).
-    #[arg(long)]
-    generations: Option<usize>,
-    /// i_r: runs (default 2).
-    #[arg(long)]
-    runs: Option<usize>,
+    /// GP parameters; `--paper-settings` also sets the paper's problem counts (days of CPU time
+    /// on 2 cores).
+    #[command(flatten)]
+    gp: crate::trees_cmd::GpParamArgs,
     /// Wall-clock bound of one evolution in seconds (ψ* so far is kept; makes results depend on
     /// the machine, so it is off by default).
     #[arg(long)]
@@ -111,18 +101,12 @@ fn positive_seconds(what: &str, s: f64) -> Result<Duration, Fail> {
 impl GpCommon {
     /// The configuration and the problem count (`default` / `paper` when not given).
     fn config(&self, default: usize, paper: usize) -> Result<(GpExperimentConfig, usize), Fail> {
-        let mut params = if self.paper_settings {
-            GpParams::paper()
+        let params = self.gp.params(true)?;
+        let problems = self.problems.unwrap_or(if self.gp.paper_settings {
+            paper
         } else {
-            GpParams::default()
-        };
-        params.population = self.population.unwrap_or(params.population);
-        params.generations = self.generations.unwrap_or(params.generations);
-        params.runs = self.runs.unwrap_or(params.runs);
-        params.validate()?;
-        let problems = self
-            .problems
-            .unwrap_or(if self.paper_settings { paper } else { default });
+            default
+        });
         if !(1..=100_000).contains(&problems) {
             return Err(Fail(format!(
                 "--problems must be between 1 and 100000, got {problems}"
@@ -167,7 +151,7 @@ impl GpCommon {
             "mrpp experiment {name} --seed {} --problems {problems} --population {} --generations {} --runs {}",
             cfg.seed, p.population, p.generations, p.runs
         );
-        if self.paper_settings {
+        if self.gp.paper_settings {
             c.push_str(" --paper-settings");
         }
         if let Some(s) = self.evolve_time_limit {
@@ -430,7 +414,9 @@ pub fn table3(args: &GpTable3Args) -> Result<u8, Fail> {
 pub fn table4(args: &GpTable4Args) -> Result<u8, Fail> {
     let c = &args.common;
     let (cfg, tests) = c.config(50, 100)?;
-    let trials = args.trials.unwrap_or(if c.paper_settings { 10 } else { 2 });
+    let trials = args
+        .trials
+        .unwrap_or(if c.gp.paper_settings { 10 } else { 2 });
     if !(1..=1000).contains(&trials) {
         return Err(Fail(format!(
             "--trials must be between 1 and 1000, got {trials}"

@@ -114,37 +114,33 @@ pub(crate) enum TreePlanner {
     Gp,
 }
 
-/// The GP evolution's settings (only with `--planner gp` and no `--program`).
+/// The GP evolution's parameters, shared by `trees solve` and the GP experiments.
 #[derive(Args)]
-pub(crate) struct GpArgs {
+pub(crate) struct GpParamArgs {
     /// |P|: programs per generation (default 200; paper 2000).
     #[arg(long)]
-    population: Option<usize>,
+    pub(crate) population: Option<usize>,
     /// i_g: generations per run (default 25; paper 400).
     #[arg(long)]
-    generations: Option<usize>,
+    pub(crate) generations: Option<usize>,
     /// i_r: independent runs (default 2; paper 5).
     #[arg(long)]
-    runs: Option<usize>,
+    pub(crate) runs: Option<usize>,
     /// Start from the paper's settings (|P| = 2000, 5 runs of 400 generations, cap M).
     #[arg(long)]
-    paper_settings: bool,
-    /// Write the evolved program here (S-expression; `mrpp trees run --program` reads it).
-    #[arg(long)]
-    save_program: Option<PathBuf>,
+    pub(crate) paper_settings: bool,
 }
 
-impl GpArgs {
+impl GpParamArgs {
     fn any(&self) -> bool {
         self.population.is_some()
             || self.generations.is_some()
             || self.runs.is_some()
             || self.paper_settings
-            || self.save_program.is_some()
     }
 
     /// The parameters, checked with [`GpParams::validate`].
-    fn params(&self, allow_following: bool) -> Result<GpParams, Fail> {
+    pub(crate) fn params(&self, allow_following: bool) -> Result<GpParams, Fail> {
         let mut p = if self.paper_settings {
             GpParams::paper()
         } else {
@@ -156,6 +152,26 @@ impl GpArgs {
         p.sim.allow_following = allow_following;
         p.validate()?;
         Ok(p)
+    }
+}
+
+/// The GP evolution's settings (only with `--planner gp` and no `--program`).
+#[derive(Args)]
+pub(crate) struct GpArgs {
+    #[command(flatten)]
+    params: GpParamArgs,
+    /// Write the evolved program here (S-expression; `mrpp trees run --program` reads it).
+    #[arg(long)]
+    save_program: Option<PathBuf>,
+}
+
+impl GpArgs {
+    fn any(&self) -> bool {
+        self.params.any() || self.save_program.is_some()
+    }
+
+    fn params(&self, allow_following: bool) -> Result<GpParams, Fail> {
+        self.params.params(allow_following)
     }
 }
 
