@@ -270,6 +270,7 @@ fn bundled_program_solves_bundled_example() {
     cleanup("bundled");
 }
 
+/// The same seed gives the same evolved program and plan with 1 and with 2 threads.
 #[test]
 fn gp_is_deterministic_for_a_seed() {
     let ex = data("example.json");
@@ -289,7 +290,13 @@ fn gp_is_deterministic_for_a_seed() {
                 s(&plan),
             ];
             args.extend_from_slice(&SMALL_GP);
-            run(&args, 0);
+            // One run on 1 rayon thread, the other on 2: the same program and plan.
+            let o = Command::new(env!("CARGO_BIN_EXE_mrpp"))
+                .args(&args)
+                .env("RAYON_NUM_THREADS", (k + 1).to_string())
+                .output()
+                .expect("run mrpp");
+            assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
             let mut v = json(&plan);
             // The only field allowed to differ: wall time.
             v["metrics"]["runtime_ms"] = serde_json::Value::Null;
