@@ -194,9 +194,16 @@ impl RootedTree {
     }
 
     /// Whether `x` lies on the path from `u` to `v` (ends included).
+    ///
+    /// O(log degree), without walking to the LCA (the GP simulator asks this for every robot in
+    /// every network test): `x` is on the path iff it is an ancestor of exactly one end, or an
+    /// ancestor of both whose subtrees toward `u` and `v` differ (then `x` is their LCA).
     pub fn on_path(&self, x: VertexId, u: VertexId, v: VertexId) -> bool {
-        let l = self.lca(u, v);
-        self.is_ancestor(l, x) && (self.is_ancestor(x, u) || self.is_ancestor(x, v))
+        match (self.is_ancestor(x, u), self.is_ancestor(x, v)) {
+            (true, true) => x == u || x == v || self.next_hop(x, u) != self.next_hop(x, v),
+            (true, false) | (false, true) => true,
+            (false, false) => false,
+        }
     }
 
     /// The vertices from `u` to `v`, both included.
@@ -246,6 +253,15 @@ mod tests {
         assert_eq!(t.next_hop(3, 4), 2);
         assert!(t.on_path(1, 3, 5));
         assert!(!t.on_path(4, 3, 5));
+        // on_path agrees with the explicit path for every triple.
+        for u in 0..6 {
+            for v in 0..6 {
+                let p = t.path(u, v);
+                for x in 0..6 {
+                    assert_eq!(t.on_path(x, u, v), p.contains(&x), "{x} on {u}-{v}");
+                }
+            }
+        }
         assert_eq!(t.subtree(1), &[1, 2, 3, 4]);
         assert_eq!(t.subtree(0).len(), 6);
     }

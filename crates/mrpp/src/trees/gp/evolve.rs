@@ -130,6 +130,12 @@ impl GpParams {
                 self.min_depth, self.init_depth, self.max_depth
             ));
         }
+        if self.sim.radius > 16 {
+            return bad(format!(
+                "a communication radius of {} hops is too large (≤ 16; paper: 2)",
+                self.sim.radius
+            ));
+        }
         if self.max_depth > 1000 {
             return bad(format!(
                 "a maximum depth of {} is too large (≤ 1000)",

@@ -271,6 +271,41 @@ struct Sim<'a> {
     // Scratch.
     queue: Vec<(VertexId, VertexId, u32)>,
     net: Vec<u32>,
+    /// The nodes within ρ hops of each node, in BFS order (adjacency order), node `v`'s at
+    /// `ball[ball_at[v]..ball_at[v + 1]]`.
+    ball: Vec<VertexId>,
+    ball_at: Vec<u32>,
+    /// (robot, [`Sim::moves`]) the list in `net` was computed for.
+    net_key: (usize, u64),
+    /// Moves made so far (any robot): positions are unchanged while it is.
+    moves: u64,
+}
+
+/// For every node, the nodes within `radius` hops in BFS order (the node first), flattened.
+fn balls(g: &Graph, radius: u32) -> (Vec<VertexId>, Vec<u32>) {
+    let mut ball = Vec::new();
+    let mut ball_at = vec![0u32];
+    let mut queue: Vec<(VertexId, VertexId, u32)> = Vec::new();
+    for v in 0..g.num_vertices() as VertexId {
+        queue.clear();
+        queue.push((v, NONE, 0));
+        let mut head = 0;
+        while head < queue.len() {
+            let (x, from, d) = queue[head];
+            head += 1;
+            ball.push(x);
+            if d < radius {
+                queue.extend(
+                    g.neighbors(x)
+                        .iter()
+                        .filter(|&&w| w != from)
+                        .map(|&w| (w, x, d + 1)),
+                );
+            }
+        }
+        ball_at.push(ball.len() as u32);
+    }
+    (ball, ball_at)
 }
 
 impl<'a> Sim<'a> {
@@ -288,6 +323,7 @@ impl<'a> Sim<'a> {
             .map(|i| p.inst.starts[i] == p.inst.goals[i])
             .collect();
         let unsolved = solved.iter().filter(|&&b| !b).count();
+        let (ball, ball_at) = balls(&p.graph, o.radius);
         Sim {
             p,
             o,
@@ -313,6 +349,10 @@ impl<'a> Sim<'a> {
             },
             queue: Vec::new(),
             net: Vec::new(),
+            net_key: (usize::MAX, 0),
+            moves: 0,
+            ball,
+            ball_at,
         }
     }
 
@@ -442,26 +482,20 @@ impl<'a> Sim<'a> {
     }
 
     /// c(r_i): the robots within ρ hops of robot `i`, nearest first (BFS in adjacency order).
+    /// Callers hand the list back (`self.net = net`): it stays valid, and is reused, until a robot
+    /// moves (a decision often tests the network more than once).
     fn network(&mut self, i: usize) -> Vec<u32> {
         let mut net = std::mem::take(&mut self.net);
+        if self.net_key == (i, self.moves) {
+            return net;
+        }
+        self.net_key = (i, self.moves);
         net.clear();
-        self.queue.clear();
-        self.queue.push((self.s.pos[i], NONE, 0));
-        let mut head = 0;
-        while head < self.queue.len() {
-            let (v, from, d) = self.queue[head];
-            head += 1;
-            let r = self.occ[v as usize];
+        let v = self.s.pos[i] as usize;
+        for &w in &self.ball[self.ball_at[v] as usize..self.ball_at[v + 1] as usize] {
+            let r = self.occ[w as usize];
             if r != NONE && r as usize != i {
                 net.push(r);
-            }
-            if d < self.o.radius {
-                let p = self.p;
-                for &w in p.graph.neighbors(v) {
-                    if w != from {
-                        self.queue.push((w, v, d + 1));
-                    }
-                }
             }
         }
         net
@@ -531,6 +565,7 @@ impl<'a> Sim<'a> {
         if !self.free(v) {
             return false;
         }
+        self.moves += 1;
         self.occ[u as usize] = NONE;
         self.vacated[u as usize] = self.stamp;
         self.occ[v as usize] = i as u32;
