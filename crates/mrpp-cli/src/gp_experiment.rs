@@ -154,6 +154,9 @@ impl GpCommon {
         if self.gp.paper_settings {
             c.push_str(" --paper-settings");
         }
+        if let Some(k) = self.gp.evolution_cap {
+            let _ = write!(c, " --evolution-cap {k}");
+        }
         if let Some(s) = self.evolve_time_limit {
             let _ = write!(c, " --evolve-time-limit {s}");
         }

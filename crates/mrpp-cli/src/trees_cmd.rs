@@ -129,6 +129,10 @@ pub(crate) struct GpParamArgs {
     /// Start from the paper's settings (|P| = 2000, 5 runs of 400 generations, cap M).
     #[arg(long)]
     pub(crate) paper_settings: bool,
+    /// Step cap of each example during evolution, in steps per tree node (default 20, i.e.
+    /// 20·|N|); 0 = the paper's M = |N|²·|R|².
+    #[arg(long)]
+    pub(crate) evolution_cap: Option<u64>,
 }
 
 impl GpParamArgs {
@@ -137,6 +141,7 @@ impl GpParamArgs {
             || self.generations.is_some()
             || self.runs.is_some()
             || self.paper_settings
+            || self.evolution_cap.is_some()
     }
 
     /// The parameters, checked with [`GpParams::validate`].
@@ -149,6 +154,9 @@ impl GpParamArgs {
         p.population = self.population.unwrap_or(p.population);
         p.generations = self.generations.unwrap_or(p.generations);
         p.runs = self.runs.unwrap_or(p.runs);
+        if let Some(k) = self.evolution_cap {
+            p.cap_factor = (k > 0).then_some(k);
+        }
         p.sim.allow_following = allow_following;
         p.validate()?;
         Ok(p)

@@ -79,14 +79,14 @@ pub struct GpParams {
     pub sim: SimOptions,
     /// Stop once τ_B reaches the lower bound (ψ* cannot improve any more).
     pub stop_at_lower_bound: bool,
-    /// Per-example step cap during evolution: min(M, factor·|N|·|R|); `None` = the paper's
+    /// Per-example step cap during evolution: min(M, factor·|N|); `None` = the paper's
     /// M = |N|²·|R|². Programs that never solve mostly fall into short cycles, which are cut
     /// exactly, but some (robots touring every branch node in turn, say) have joint periods of
     /// millions of steps, and M reaches 10⁷–10⁹ on the paper's larger trees, so one such program
-    /// costs minutes. The default factor 1 (|N|·|R| steps, over 10× what PSW needs on the
-    /// paper's problems) changes the fitness only of programs slower than that; on a 176-node,
-    /// 90-robot problem it made the evolution several times faster and its ψ* better (297 vs
-    /// 791 PSW steps).
+    /// costs minutes and one generation hours. The default factor 20 (PSW needs 4.6·|N| steps on
+    /// average and at most 6·|N| on 200 of the paper's problems) changes the fitness only of
+    /// programs slower than that. A cap that grows with |N|·|R| instead left the largest problems
+    /// (≈1000 nodes, 250–500 robots) at seconds per program.
     pub cap_factor: Option<u64>,
 }
 
@@ -149,17 +149,14 @@ impl GpParams {
     pub fn example_cap(&self, p: &Problem) -> u64 {
         let m = p.step_cap();
         match self.cap_factor {
-            Some(f) => {
-                let nr = (p.graph().num_vertices() as u64).saturating_mul(p.num_robots() as u64);
-                m.min(f.saturating_mul(nr))
-            }
+            Some(f) => m.min(f.saturating_mul(p.graph().num_vertices() as u64)),
             None => m,
         }
     }
 }
 
 impl Default for GpParams {
-    /// A scaled-down setting: |P| = 200, 2 runs of 25 generations, evolution step cap |N|·|R|;
+    /// A scaled-down setting: |P| = 200, 2 runs of 25 generations, evolution step cap 20·|N|;
     /// everything else as in [`GpParams::paper`]. Seconds per problem on small trees, minutes on
     /// the largest of the paper's problems.
     fn default() -> Self {
@@ -177,7 +174,7 @@ impl Default for GpParams {
             mutation_depth: 2,
             sim: SimOptions::default(),
             stop_at_lower_bound: true,
-            cap_factor: Some(1),
+            cap_factor: Some(20),
         }
     }
 }
