@@ -261,6 +261,23 @@ fn bundled_program_solves_bundled_example() {
     assert!(out.contains("time_steps 70"), "{out}");
     let v = valid(Path::new(&data("example.json")), &plan);
     assert!(v.contains("18 robots | time_steps 70"), "{v}");
+    // The program evolved at the paper's settings: 44 steps, a valid plan.
+    let (out, _) = run(
+        &[
+            "trees",
+            "run",
+            "--program",
+            &data("example-paper-settings.gp"),
+            "--instance",
+            &data("example.json"),
+            "--out",
+            s(&plan),
+        ],
+        0,
+    );
+    assert!(out.contains("time_steps 44"), "{out}");
+    let v = valid(Path::new(&data("example.json")), &plan);
+    assert!(v.contains("18 robots | time_steps 44"), "{v}");
     // The bundled instance is what its README command makes.
     let again = generate("bundled", "1", "5", &["--robots", "18"]);
     assert_eq!(
