@@ -12,6 +12,9 @@
 //! running only `(cap − step) mod period` more steps, which gives exactly the fitness a run to the
 //! cap would give, in a fraction of the time (the paper's cap M = |N|²·|R|² runs to 10⁵–10⁷ steps).
 
+use std::borrow::Cow;
+use std::sync::OnceLock;
+
 use crate::graph::{Graph, VertexId};
 use crate::instance::Instance;
 use crate::plan::Plan;
@@ -22,6 +25,9 @@ use crate::trees::psw::step_cap;
 use crate::trees::rooted::RootedTree;
 
 const NONE: u32 = u32::MAX;
+
+/// Branch nodes cached per node, nearest first (bounds the cache at 64·|N| entries).
+const CACHED_BRANCHES: usize = 64;
 
 /// What becomes of a robot's path once it stands on the branch node it set its path to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -85,6 +91,10 @@ pub struct Problem {
     tree: RootedTree,
     is_branch: Vec<bool>,
     has_branch: bool,
+    /// Per node, the branch nodes in BFS order from it (adjacency order), computed on first use
+    /// and shared by every run and thread (If-Two-Robots-On-Each-Others-Path and
+    /// Move-Toward-Branch ask for the nearest untried one all the time).
+    branch_order: Vec<OnceLock<Box<[VertexId]>>>,
 }
 
 impl Problem {
@@ -113,6 +123,7 @@ impl Problem {
             tree,
             is_branch,
             has_branch,
+            branch_order: (0..n).map(|_| OnceLock::new()).collect(),
         })
     }
 
@@ -130,6 +141,36 @@ impl Problem {
 
     pub fn num_robots(&self) -> usize {
         self.inst.num_agents()
+    }
+
+    /// The branch nodes in BFS order from `v` (neighbours in adjacency order), nearest first, at
+    /// most [`CACHED_BRANCHES`] of them (cached), or all of them (`all`, not cached).
+    fn branches_by_distance(&self, v: VertexId, all: bool) -> Cow<'_, [VertexId]> {
+        let bfs = |limit: usize| -> Vec<VertexId> {
+            let mut order = Vec::new();
+            let mut queue = vec![(v, NONE)];
+            let mut head = 0;
+            while head < queue.len() && order.len() < limit && self.has_branch {
+                let (x, from) = queue[head];
+                head += 1;
+                if self.is_branch[x as usize] {
+                    order.push(x);
+                }
+                queue.extend(
+                    self.graph
+                        .neighbors(x)
+                        .iter()
+                        .filter(|&&w| w != from)
+                        .map(|&w| (w, x)),
+                );
+            }
+            order
+        };
+        if all {
+            Cow::Owned(bfs(usize::MAX))
+        } else {
+            Cow::Borrowed(self.branch_order[v as usize].get_or_init(|| bfs(CACHED_BRANCHES).into()))
+        }
     }
 
     /// The paper's cap M = |N|²·|R|².
@@ -269,7 +310,6 @@ struct Sim<'a> {
     record: bool,
     paths: Vec<Vec<VertexId>>,
     // Scratch.
-    queue: Vec<(VertexId, VertexId, u32)>,
     net: Vec<u32>,
     /// The nodes within ρ hops of each node, in BFS order (adjacency order), node `v`'s at
     /// `ball[ball_at[v]..ball_at[v + 1]]`.
@@ -347,7 +387,6 @@ impl<'a> Sim<'a> {
             } else {
                 Vec::new()
             },
-            queue: Vec::new(),
             net: Vec::new(),
             net_key: (usize::MAX, 0),
             moves: 0,
@@ -504,32 +543,23 @@ impl<'a> Sim<'a> {
     /// The branch node nearest to robot `i` that it has not chosen before (ties: BFS order). When
     /// it has chosen them all, its list is cleared and the nearest one is taken.
     fn nearest_branch(&mut self, i: usize) -> Option<VertexId> {
-        if !self.p.has_branch {
-            return None;
-        }
-        for pass in 0..2 {
-            self.queue.clear();
-            self.queue.push((self.s.pos[i], NONE, 0));
-            let mut head = 0;
-            while head < self.queue.len() {
-                let (v, from, d) = self.queue[head];
-                head += 1;
-                if self.p.is_branch[v as usize] && !Self::bit(&self.s.tried, self.words, i, v) {
-                    return Some(v);
-                }
-                let p = self.p;
-                for &w in p.graph.neighbors(v) {
-                    if w != from {
-                        self.queue.push((w, v, d + 1));
-                    }
-                }
-            }
-            if pass == 0 {
-                let w = self.words;
-                self.s.tried[i * w..(i + 1) * w].fill(0);
+        let (pos, w) = (self.s.pos[i], self.words);
+        let mut order = self.p.branches_by_distance(pos, false);
+        if order.len() == CACHED_BRANCHES {
+            let tried = &self.s.tried;
+            if order.iter().all(|&b| Self::bit(tried, w, i, b)) {
+                // The cached prefix is used up: look further.
+                order = self.p.branches_by_distance(pos, true);
             }
         }
-        None
+        let tried = &self.s.tried;
+        if let Some(&b) = order.iter().find(|&&b| !Self::bit(tried, w, i, b)) {
+            return Some(b);
+        }
+        // Every branch node tried: forget them and start over with the nearest.
+        let first = order.first().copied();
+        self.s.tried[i * w..(i + 1) * w].fill(0);
+        first
     }
 
     /// Robot `i` picks the nearest branch node it has not chosen before, records it as chosen
