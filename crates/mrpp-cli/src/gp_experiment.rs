@@ -38,8 +38,8 @@ pub struct GpCommon {
     /// Wall-clock bound, in seconds, of one PSW run or one run of a program on a test problem.
     #[arg(long, default_value_t = 60.0)]
     run_time_limit: f64,
-    /// Depth budgets of the generated trees, `MIN-MAX` (default: the paper's 4-10 for problems
-    /// evolved on, 4-9 for Table 4's test problems); smaller trees make quicker runs.
+    /// Depth budgets of the generated trees, `MIN-MAX` (default 3-4, trees of the paper's scale;
+    /// with --paper-settings the paper's 4-10, and 4-9 for Table 4's test problems).
     #[arg(long, value_parser = parse_depths)]
     depths: Option<RangeInclusive<u32>>,
     /// Output directory (default out/gp-tableN).
@@ -101,7 +101,12 @@ fn positive_seconds(what: &str, s: f64) -> Result<Duration, Fail> {
 impl GpCommon {
     /// The configuration and the problem count (`default` / `paper` when not given).
     fn config(&self, default: usize, paper: usize) -> Result<(GpExperimentConfig, usize), Fail> {
-        let params = self.gp.params(true)?;
+        let base = if self.gp.paper_settings {
+            GpExperimentConfig::paper()
+        } else {
+            GpExperimentConfig::scaled_down()
+        };
+        let params = self.gp.params_over(base.params.clone(), true)?;
         let problems = self.problems.unwrap_or(if self.gp.paper_settings {
             paper
         } else {
@@ -112,10 +117,9 @@ impl GpCommon {
                 "--problems must be between 1 and 100000, got {problems}"
             )));
         }
-        let defaults = GpExperimentConfig::default();
         let cfg = GpExperimentConfig {
-            train_depths: self.depths.clone().unwrap_or(defaults.train_depths),
-            test_depths: self.depths.clone().unwrap_or(defaults.test_depths),
+            train_depths: self.depths.clone().unwrap_or(base.train_depths.clone()),
+            test_depths: self.depths.clone().unwrap_or(base.test_depths.clone()),
             seed: self.seed,
             params,
             run_time_limit: positive_seconds("run-time-limit", self.run_time_limit)?,
@@ -123,7 +127,7 @@ impl GpCommon {
                 .evolve_time_limit
                 .map(|s| positive_seconds("evolve-time-limit", s))
                 .transpose()?,
-            ..defaults
+            ..base
         };
         Ok((cfg, problems))
     }
@@ -160,7 +164,8 @@ impl GpCommon {
         if let Some(s) = self.evolve_time_limit {
             let _ = write!(c, " --evolve-time-limit {s}");
         }
-        if let Some(d) = &self.depths {
+        if self.depths.is_some() || !self.gp.paper_settings {
+            let d = &cfg.train_depths;
             let _ = write!(c, " --depths {}-{}", d.start(), d.end());
         }
         c + extra

@@ -117,13 +117,13 @@ pub(crate) enum TreePlanner {
 /// The GP evolution's parameters, shared by `trees solve` and the GP experiments.
 #[derive(Args)]
 pub(crate) struct GpParamArgs {
-    /// |P|: programs per generation (default 200; paper 2000).
+    /// |P|: programs per generation (default 200, experiments 1000; paper 2000).
     #[arg(long)]
     pub(crate) population: Option<usize>,
-    /// i_g: generations per run (default 25; paper 400).
+    /// i_g: generations per run (default 25, experiments 50; paper 400).
     #[arg(long)]
     pub(crate) generations: Option<usize>,
-    /// i_r: independent runs (default 2; paper 5).
+    /// i_r: independent runs (default 2, experiments 3; paper 5).
     #[arg(long)]
     pub(crate) runs: Option<usize>,
     /// Start from the paper's settings (|P| = 2000, 5 runs of 400 generations, cap M).
@@ -146,10 +146,20 @@ impl GpParamArgs {
 
     /// The parameters, checked with [`GpParams::validate`].
     pub(crate) fn params(&self, allow_following: bool) -> Result<GpParams, Fail> {
+        self.params_over(GpParams::default(), allow_following)
+    }
+
+    /// The flags applied over `default` (ignored with `--paper-settings`, which starts from the
+    /// paper's values).
+    pub(crate) fn params_over(
+        &self,
+        default: GpParams,
+        allow_following: bool,
+    ) -> Result<GpParams, Fail> {
         let mut p = if self.paper_settings {
             GpParams::paper()
         } else {
-            GpParams::default()
+            default
         };
         p.population = self.population.unwrap_or(p.population);
         p.generations = self.generations.unwrap_or(p.generations);
