@@ -161,6 +161,25 @@ impl GpCommon {
         if let Some(k) = self.gp.evolution_cap {
             let _ = write!(c, " --evolution-cap {k}");
         }
+        let g = &self.gp;
+        for (flag, v) in [
+            ("p-reproduction", g.p_reproduction),
+            ("p-crossover", g.p_crossover),
+            ("p-mutation", g.p_mutation),
+        ] {
+            if let Some(v) = v {
+                let _ = write!(c, " --{flag} {v}");
+            }
+        }
+        for (flag, v) in [
+            ("min-depth", g.min_depth),
+            ("max-depth", g.max_depth),
+            ("init-depth", g.init_depth),
+        ] {
+            if let Some(v) = v {
+                let _ = write!(c, " --{flag} {v}");
+            }
+        }
         if let Some(s) = self.evolve_time_limit {
             let _ = write!(c, " --evolve-time-limit {s}");
         }

@@ -74,7 +74,7 @@ pub(crate) enum Trees {
         #[arg(long)]
         no_following: bool,
         #[command(flatten)]
-        gp: GpArgs,
+        gp: Box<GpArgs>,
         /// Write the plan here (also written when not solved, with "solved": false).
         #[arg(long)]
         out: Option<PathBuf>,
@@ -133,6 +133,21 @@ pub(crate) struct GpParamArgs {
     /// 20·|N|); 0 = the paper's M = |N|²·|R|².
     #[arg(long)]
     pub(crate) evolution_cap: Option<u64>,
+    /// p_a, p_c, p_m: shares of the next generation made by reproduction, crossover and
+    /// mutation (default 0.1, 0.8, 0.1; they must sum to 1).
+    #[arg(long)]
+    pub(crate) p_reproduction: Option<f64>,
+    #[arg(long)]
+    pub(crate) p_crossover: Option<f64>,
+    #[arg(long)]
+    pub(crate) p_mutation: Option<f64>,
+    /// Depth bounds of every program (default 1 and 50) and of the initial ones (default 2).
+    #[arg(long)]
+    pub(crate) min_depth: Option<usize>,
+    #[arg(long)]
+    pub(crate) max_depth: Option<usize>,
+    #[arg(long)]
+    pub(crate) init_depth: Option<usize>,
 }
 
 impl GpParamArgs {
@@ -142,6 +157,12 @@ impl GpParamArgs {
             || self.runs.is_some()
             || self.paper_settings
             || self.evolution_cap.is_some()
+            || self.p_reproduction.is_some()
+            || self.p_crossover.is_some()
+            || self.p_mutation.is_some()
+            || self.min_depth.is_some()
+            || self.max_depth.is_some()
+            || self.init_depth.is_some()
     }
 
     /// The parameters, checked with [`GpParams::validate`].
@@ -167,6 +188,12 @@ impl GpParamArgs {
         if let Some(k) = self.evolution_cap {
             p.cap_factor = (k > 0).then_some(k);
         }
+        p.p_reproduction = self.p_reproduction.unwrap_or(p.p_reproduction);
+        p.p_crossover = self.p_crossover.unwrap_or(p.p_crossover);
+        p.p_mutation = self.p_mutation.unwrap_or(p.p_mutation);
+        p.min_depth = self.min_depth.unwrap_or(p.min_depth);
+        p.max_depth = self.max_depth.unwrap_or(p.max_depth);
+        p.init_depth = self.init_depth.unwrap_or(p.init_depth);
         p.sim.allow_following = allow_following;
         p.validate()?;
         Ok(p)
