@@ -329,7 +329,12 @@ fn walks(
 }
 
 proptest! {
-    #![proptest_config(ProptestConfig::with_cases(64))]
+    // A fixed seed: the same cases on every run, so CI is deterministic.
+    #![proptest_config(ProptestConfig {
+        cases: 64,
+        rng_seed: proptest::test_runner::RngSeed::Fixed(20_261_122),
+        ..ProptestConfig::default()
+    })]
 
     /// Property 1: no planner returns an invalid plan, `solve` never does, one agent is always
     /// solved.
