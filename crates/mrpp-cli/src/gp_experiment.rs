@@ -4,7 +4,7 @@
 
 use std::fmt::Write as _;
 use std::ops::RangeInclusive;
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use clap::Args;
@@ -254,6 +254,18 @@ impl Progress {
     }
 }
 
+/// Writes every output file (each atomically, after all were computed), prints the Markdown
+/// table and what was written.
+fn write_all(out: &Path, files: &[(&str, String)], md: &str) -> Result<u8, Fail> {
+    for (name, text) in files {
+        write_atomic(&out.join(name), text)?;
+    }
+    print!("{md}");
+    let names: Vec<&str> = files.iter().map(|f| f.0).collect();
+    println!("wrote {}/{}", out.display(), names.join(", "));
+    Ok(0)
+}
+
 /// Steps for a progress line: the number, or `-` when not solved.
 fn show(v: Option<u64>) -> String {
     v.map_or_else(|| "-".into(), |s| s.to_string())
@@ -332,6 +344,7 @@ pub fn table3(args: &GpTable3Args) -> Result<u8, Fail> {
     let c = &args.common;
     let (cfg, problems) = c.config(100, 1000)?;
     let out = c.out("gp-table3")?;
+    let mut files: Vec<(&str, String)> = Vec::new();
     header("gp-table3", &cfg, problems);
     let bar = Progress::new(problems, "problems");
     let started = Instant::now();
@@ -347,7 +360,7 @@ pub fn table3(args: &GpTable3Args) -> Result<u8, Fail> {
     })?;
     bar.finish();
     let wall = started.elapsed().as_secs_f64();
-    write_atomic(&out.join("results.csv"), &problems_csv(&rows)?)?;
+    files.push(("results.csv", problems_csv(&rows)?));
 
     let cmp = Comparison::of(rows.iter().map(|r| (r.gp_steps, r.psw_steps)));
     let mut md = String::new();
@@ -391,7 +404,7 @@ pub fn table3(args: &GpTable3Args) -> Result<u8, Fail> {
         cmp.both,
         rows.iter().map(|r| r.lower_bound).sum::<u64>()
     );
-    write_atomic(&out.join("table3.md"), &md)?;
+    files.push(("table3.md", md.clone()));
     let solved: Vec<&ProblemRow> = rows
         .iter()
         .filter(|r| r.gp_steps.is_some() && r.psw_steps.is_some())
@@ -428,14 +441,9 @@ pub fn table3(args: &GpTable3Args) -> Result<u8, Fail> {
         )],
     )
     .map_err(Fail)?;
-    write_atomic(&out.join("fig4.svg"), &fig4)?;
-    write_atomic(&out.join("fig5.svg"), &fig5)?;
-    print!("{md}");
-    println!(
-        "wrote {}/results.csv, table3.md, fig4.svg, fig5.svg",
-        out.display()
-    );
-    Ok(0)
+    files.push(("fig4.svg", fig4));
+    files.push(("fig5.svg", fig5));
+    write_all(&out, &files, &md)
 }
 
 pub fn table4(args: &GpTable4Args) -> Result<u8, Fail> {
@@ -456,6 +464,7 @@ pub fn table4(args: &GpTable4Args) -> Result<u8, Fail> {
         )));
     }
     let out = c.out("gp-table4")?;
+    let mut files: Vec<(&str, String)> = Vec::new();
     let jobs = args.train_sizes.len() * trials;
     header("gp-table4", &cfg, jobs);
     let bar = Progress::new(jobs, "trainings");
@@ -502,7 +511,7 @@ pub fn table4(args: &GpTable4Args) -> Result<u8, Fail> {
             opt(r.gp_steps),
         ])?;
     }
-    write_atomic(&out.join("results.csv"), &csv_text(w)?)?;
+    files.push(("results.csv", csv_text(w)?));
     let mut w = csv::Writer::from_writer(Vec::new());
     w.write_record([
         "train_size",
@@ -524,7 +533,7 @@ pub fn table4(args: &GpTable4Args) -> Result<u8, Fail> {
             p.program.clone(),
         ])?;
     }
-    write_atomic(&out.join("programs.csv"), &csv_text(w)?)?;
+    files.push(("programs.csv", csv_text(w)?));
 
     let sizes = args
         .train_sizes
@@ -578,7 +587,7 @@ pub fn table4(args: &GpTable4Args) -> Result<u8, Fail> {
          GP solved.",
         programs.len()
     );
-    write_atomic(&out.join("table4.md"), &md)?;
+    files.push(("table4.md", md.clone()));
     let panels = |x_of: &dyn Fn(&TestRow) -> f64| -> Vec<Panel> {
         args.train_sizes
             .iter()
@@ -615,14 +624,9 @@ pub fn table4(args: &GpTable4Args) -> Result<u8, Fail> {
         &panels(&|r| swap_ratio(r.psw_swaps, r.robots)),
     )
     .map_err(Fail)?;
-    write_atomic(&out.join("fig6.svg"), &fig6)?;
-    write_atomic(&out.join("fig7.svg"), &fig7)?;
-    print!("{md}");
-    println!(
-        "wrote {}/results.csv, programs.csv, table4.md, fig6.svg, fig7.svg",
-        out.display()
-    );
-    Ok(0)
+    files.push(("fig6.svg", fig6));
+    files.push(("fig7.svg", fig7));
+    write_all(&out, &files, &md)
 }
 
 pub fn table5(args: &GpTable5Args) -> Result<u8, Fail> {
@@ -632,6 +636,7 @@ pub fn table5(args: &GpTable5Args) -> Result<u8, Fail> {
         return Err(Fail("--multipliers needs at least one value".into()));
     }
     let out = c.out("gp-table5")?;
+    let mut files: Vec<(&str, String)> = Vec::new();
     let jobs = problems * args.multipliers.len();
     header("gp-table5", &cfg, jobs);
     let bar = Progress::new(jobs, "problems");
@@ -648,7 +653,7 @@ pub fn table5(args: &GpTable5Args) -> Result<u8, Fail> {
     })?;
     bar.finish();
     let wall = started.elapsed().as_secs_f64();
-    write_atomic(&out.join("results.csv"), &problems_csv(&rows)?)?;
+    files.push(("results.csv", problems_csv(&rows)?));
     let ms = args
         .multipliers
         .iter()
@@ -685,7 +690,7 @@ pub fn table5(args: &GpTable5Args) -> Result<u8, Fail> {
             .unwrap_or_else(|| " | ".into());
         let _ = writeln!(md, "| {m} | {g:.1} | {p:.1} | {paper} |");
     }
-    write_atomic(&out.join("table5.md"), &md)?;
+    files.push(("table5.md", md.clone()));
     let paper_series = |name: &str, f: fn(&(f64, f64, f64)) -> f64| Series {
         name: format!("{name} (paper)"),
         points: PAPER_TABLE5.iter().map(|t| (t.0, f(t))).collect(),
@@ -715,8 +720,6 @@ pub fn table5(args: &GpTable5Args) -> Result<u8, Fail> {
         }],
     )
     .map_err(Fail)?;
-    write_atomic(&out.join("table5.svg"), &svg)?;
-    print!("{md}");
-    println!("wrote {}/results.csv, table5.md, table5.svg", out.display());
-    Ok(0)
+    files.push(("table5.svg", svg));
+    write_all(&out, &files, &md)
 }

@@ -27,6 +27,7 @@ use std::time::{Duration, Instant};
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
+use crate::plan::Plan;
 use crate::seeds::derive_seed;
 use crate::solve::Deadline;
 use crate::trees::generator::{ProblemSpec, RobotCount, generate_problem};
@@ -136,19 +137,30 @@ fn run_psw(cfg: &GpExperimentConfig, t: &TreeInstance) -> Result<(Option<u64>, u
         .psw
         .run(&t.graph, &t.instance, Deadline::after(cfg.run_time_limit));
     let steps = if run.solved() {
-        let mut plan = crate::plan::Plan::new(run.paths);
-        plan.trim();
-        let m = validate_tree_plan(&t.graph, &t.instance, &plan, cfg.psw.allow_following)
-            .map_err(|v| internal("PSW", v.describe(&t.graph)))?;
-        Some(m.makespan)
+        Some(time_steps(
+            "PSW",
+            t,
+            Plan::new(run.paths),
+            cfg.psw.allow_following,
+        )?)
     } else {
         None
     };
     Ok((steps, run.swaps.len()))
 }
 
-fn internal(who: &str, why: String) -> Error {
-    Error::Internal(format!("a {who} plan was rejected by the validator: {why}"))
+/// The time steps of a planner's plan (the makespan under `visit` semantics), after the
+/// validator has accepted it; a rejected plan is an internal error naming `who` made it.
+fn time_steps(who: &str, t: &TreeInstance, mut plan: Plan, following: bool) -> Result<u64> {
+    plan.trim();
+    validate_tree_plan(&t.graph, &t.instance, &plan, following)
+        .map(|m| m.makespan)
+        .map_err(|v| {
+            Error::Internal(format!(
+                "a {who} plan was rejected by the validator: {}",
+                v.describe(&t.graph)
+            ))
+        })
 }
 
 /// Runs `program` on a test problem; time steps when it solves (validated).
@@ -156,21 +168,16 @@ fn run_program_on(
     cfg: &GpExperimentConfig,
     program: &Program,
     t: &TreeInstance,
+    problem: &Problem,
 ) -> Result<Option<u64>> {
-    let problem = Problem::from_tree_instance(t);
-    match plan_program(
-        program,
-        &problem,
-        &cfg.params.sim,
-        Deadline::after(cfg.run_time_limit),
-    ) {
-        Ok((mut plan, _)) => {
-            plan.trim();
-            let m =
-                validate_tree_plan(&t.graph, &t.instance, &plan, cfg.params.sim.allow_following)
-                    .map_err(|v| internal("GP", v.describe(&t.graph)))?;
-            Ok(Some(m.makespan))
-        }
+    let deadline = Deadline::after(cfg.run_time_limit);
+    match plan_program(program, problem, &cfg.params.sim, deadline) {
+        Ok((plan, _)) => Ok(Some(time_steps(
+            "GP",
+            t,
+            plan,
+            cfg.params.sim.allow_following,
+        )?)),
         Err(_) => Ok(None),
     }
 }
@@ -266,11 +273,12 @@ fn per_problem(
         program: None,
     };
     if let Ok(s) = solution {
-        let mut plan = s.plan;
-        plan.trim();
-        let m = validate_tree_plan(&t.graph, &t.instance, &plan, cfg.params.sim.allow_following)
-            .map_err(|v| internal("GP", v.describe(&t.graph)))?;
-        row.gp_steps = Some(m.makespan);
+        row.gp_steps = Some(time_steps(
+            "GP",
+            &t,
+            s.plan,
+            cfg.params.sim.allow_following,
+        )?);
         row.gp_generations = s.result.generations;
         row.gp_evaluations = s.result.evaluations;
         row.program = Some(s.program.to_string());
@@ -472,7 +480,8 @@ pub fn run_table4(
                         RobotCount::LeavesMinusOne,
                     )?;
                     let (psw_steps, psw_swaps) = run_psw(cfg, &t)?;
-                    let gp_steps = run_program_on(cfg, &program, &t)?;
+                    let problem = Problem::from_tree_instance(&t);
+                    let gp_steps = run_program_on(cfg, &program, &t, &problem)?;
                     Ok(TestRow {
                         train_size: x,
                         trial,
@@ -480,7 +489,7 @@ pub fn run_table4(
                         depth,
                         nodes: t.num_nodes(),
                         robots: t.num_robots(),
-                        lower_bound: Problem::from_tree_instance(&t).lower_bound(),
+                        lower_bound: problem.lower_bound(),
                         psw_steps,
                         psw_swaps,
                         gp_steps,

@@ -120,11 +120,19 @@ pub fn gp(
             ))
         });
     };
-    // ψ* solved it within τ_B ≤ M steps during the evolution; the run is deterministic.
-    let (plan, out) = plan_program(&program, &problem, &params.sim, Deadline::none())?;
-    debug_assert_eq!(Some(out.steps), result.best_steps);
+    // ψ* solved the instance in τ_B steps during the evolution and runs are deterministic, so
+    // one recorded run capped at τ_B gives its plan.
+    let tau = result
+        .best_steps
+        .expect("a solving program has its step count");
+    let mut out = run_program(&program, &problem, &params.sim, tau, true, Deadline::none());
+    if !out.solved() {
+        return Err(Unsolved::GaveUp(format!(
+            "internal error: ψ* did not repeat its {tau}-step solution"
+        )));
+    }
     Ok(GpSolution {
-        plan,
+        plan: Plan::new(std::mem::take(&mut out.paths)),
         program,
         steps: out.steps,
         result,
