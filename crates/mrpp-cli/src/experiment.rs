@@ -6,16 +6,17 @@ use std::time::{Duration, Instant};
 use clap::{Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use mrpp::experiments::hstar_instances::Scenario2Map;
-use mrpp::experiments::hstar_table2::{
+use mrpp_bench::papers::hstar_instances::Scenario2Map;
+use mrpp_bench::papers::hstar_table2::{
     LoadedInstance, RunRow, Table2Config, job_count, load_paper_table2, load_table1,
     render_table2_markdown, run_table2, summarize, table2_methods,
 };
-use mrpp::io::plan_json::PlanFile;
-use mrpp::search::distance::lower_bounds;
+use mrpp_core::mapf::plan_file::RunInfo;
+use mrpp_core::mapf::search::distance::lower_bounds;
+use mrpp_grid::io::plan_json::grid_envelope;
 
+use crate::output::{Fail, write_atomic};
 use crate::plots::{Panel, Series, line_panels};
-use crate::{Fail, write_atomic};
 
 #[derive(Clone, Copy, ValueEnum)]
 pub enum Sc2Map {
@@ -112,17 +113,20 @@ fn hstar_table2(args: &HstarTable2Args) -> Result<u8, Fail> {
     let mut methods = table2_methods();
     if let Some(keep) = &planners {
         for k in keep {
-            if !methods.iter().any(|m| &m.spec.name == k) {
+            if !methods.iter().any(|m| m.planner == k) {
                 return Err(Fail(format!(
                     "--planners: unknown planner `{k}` (known: coevolution, whca, nsga3, hstar)"
                 )));
             }
         }
-        methods.retain(|m| keep.contains(&m.spec.name));
+        methods.retain(|m| keep.iter().any(|k| k == m.planner));
     }
     if let Fitness::Inverted = coevolution_fitness {
-        for m in methods.iter_mut().filter(|m| m.spec.name == "coevolution") {
-            m.spec.variant = Some("inverted".into());
+        for m in methods
+            .iter_mut()
+            .filter(|m| m.planner == mrpp_grid::coevolution::NAME)
+        {
+            m.params.push(("variant".into(), "inverted".into()));
         }
     }
     let scenario2_map = match sc2_map {
@@ -195,25 +199,20 @@ fn hstar_table2(args: &HstarTable2Args) -> Result<u8, Fail> {
                 .iter()
                 .find(|li| li.info.scenario == row.scenario && li.info.robots == row.robots)
                 .expect("row of a loaded instance");
-            let plan = row.plan.as_ref().expect("solved rows carry their plan");
-            let metrics = plan
-                .validate(li.map.graph(), &li.inst, Default::default())
-                .map_err(|v| Fail(v.describe(li.map.graph())))?;
+            let solved = row.plan.clone().expect("solved rows carry their plan");
             let map_file = li
                 .info
                 .map
                 .file_name()
                 .map(|n| n.to_string_lossy().into_owned())
                 .unwrap_or_default();
-            let file = PlanFile::new(
-                &li.map,
-                &map_file,
-                &row.planner,
-                row.seed,
-                &li.inst,
-                Some((plan, metrics)),
-                row.runtime_ms,
-            );
+            let info = RunInfo {
+                planner: row.planner.clone(),
+                seed: row.seed,
+                runtime_ms: row.runtime_ms,
+                ..RunInfo::default()
+            };
+            let file = grid_envelope(&li.map, &map_file, &li.problem, info, &Ok(solved));
             let name = format!(
                 "{}-{}-{}-{}.json",
                 row.scenario, row.robots, row.planner, row.run
@@ -277,7 +276,7 @@ fn table2_page(
     instances: &[LoadedInstance],
     rows: &[RunRow],
     cfg: &Table2Config,
-    paper: &[mrpp::experiments::hstar_table2::PaperCell],
+    paper: &[mrpp_bench::papers::hstar_table2::PaperCell],
     command: &str,
     wall: f64,
 ) -> String {
@@ -343,13 +342,13 @@ fn table2_page(
 /// Enol2023's stage 1 alone: the A* routes with private obstacles, as Max / Sum (arrival steps) and
 /// how many robot pairs still conflict.
 fn stage1(li: &LoadedInstance) -> String {
-    use mrpp::grid_mapf::coevolution::{Coevolution, astar_with_private_obstacles, route_conflict};
+    use mrpp_grid::coevolution::{Coevolution, astar_with_private_obstacles, route_conflict};
     let g = li.map.graph();
     let Ok(stage) = astar_with_private_obstacles(
         g,
         &li.inst,
         &Coevolution::default(),
-        mrpp::solve::Deadline::none(),
+        mrpp_core::contract::Deadline::none(),
     ) else {
         return String::new();
     };
@@ -358,7 +357,8 @@ fn stage1(li: &LoadedInstance) -> String {
         .iter()
         .zip(&li.inst.goals)
         .map(|(r, &goal)| {
-            mrpp::plan::path_cost(r, goal, mrpp::GoalSemantics::Stay).unwrap_or(r.len() - 1)
+            mrpp_core::mapf::plan::path_cost(r, goal, mrpp_core::GoalSemantics::Stay)
+                .unwrap_or(r.len() - 1)
         })
         .collect();
     let n = stage.routes.len();
@@ -377,7 +377,7 @@ fn fig5(
     instances: &[LoadedInstance],
     rows: &[RunRow],
     cfg: &Table2Config,
-    paper: &[mrpp::experiments::hstar_table2::PaperCell],
+    paper: &[mrpp_bench::papers::hstar_table2::PaperCell],
 ) -> Result<String, Fail> {
     let mut panels = Vec::new();
     for sc in 1..=3u8 {

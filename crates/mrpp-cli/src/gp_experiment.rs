@@ -10,13 +10,13 @@ use std::time::{Duration, Instant};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 
-use mrpp::experiments::gp_trees::{
+use mrpp_bench::papers::gp_trees::{
     Comparison, GpExperimentConfig, PAPER_TABLE3, PAPER_TABLE3_TOTALS, PAPER_TABLE4, PAPER_TABLE5,
     ProblemRow, TestRow, TrainedProgram, mean_by_x, run_table3, run_table4, run_table5, swap_ratio,
 };
 
+use crate::output::{Fail, write_atomic};
 use crate::plots::{Panel, Series, line_panels};
-use crate::{Fail, write_atomic};
 
 /// What the three experiments share.
 #[derive(Args)]
@@ -30,7 +30,7 @@ pub struct GpCommon {
     /// GP parameters; `--paper-settings` also sets the paper's problem counts (days of CPU time
     /// on 2 cores).
     #[command(flatten)]
-    gp: crate::trees_cmd::GpParamArgs,
+    gp: crate::tree_family::GpParamArgs,
     /// Wall-clock bound of one evolution in seconds (ψ* so far is kept; makes results depend on
     /// the machine, so it is off by default).
     #[arg(long)]

@@ -1,5 +1,5 @@
 //! End-to-end tests of the `mrpp` binary: exit codes, one-line errors naming the file, plans that
-//! `mrpp validate` and the independent Python checker (`tools/check_plan.py`) both accept with the
+//! `mrpp validate` and the independent Python checker (`tools/check/grid.py`) both accept with the
 //! same metrics, and injected conflicts that both reject.
 
 use std::path::{Path, PathBuf};
@@ -36,7 +36,7 @@ fn tmp(name: &str) -> PathBuf {
 /// Runs the independent checker; returns (valid, parsed JSON line).
 fn check(map: &str, plan: &Path) -> (bool, serde_json::Value) {
     let o = Command::new("python3")
-        .arg(root().join("tools/check_plan.py"))
+        .arg(root().join("tools/check/grid.py"))
         .arg(map)
         .arg(plan)
         .output()
@@ -55,12 +55,17 @@ fn check(map: &str, plan: &Path) -> (bool, serde_json::Value) {
 fn validate(map: &str, plan: &Path) -> (i32, Option<(u64, u64, u64)>, String) {
     let o = mrpp(&["validate", "--map", map, "--plan", plan.to_str().unwrap()]);
     let (out, err) = text(&o);
-    let nums: Vec<u64> = out
-        .split(|c: char| !c.is_ascii_digit())
-        .filter(|s| !s.is_empty())
-        .map(|s| s.parse().unwrap())
-        .collect();
-    let metrics = (nums.len() == 4).then(|| (nums[1], nums[2], nums[3]));
+    let value = |key: &str| -> Option<u64> {
+        out.split(" | ")
+            .find_map(|part| part.trim().strip_prefix(key)?.trim().parse().ok())
+    };
+    let metrics = out.starts_with("valid:").then(|| {
+        (
+            value("sum_of_costs").unwrap(),
+            value("makespan").unwrap(),
+            value("sum_of_moves").unwrap(),
+        )
+    });
     (o.status.code().unwrap(), metrics, err)
 }
 
@@ -90,7 +95,7 @@ fn every_planner_plan_is_valid_for_both_checkers() {
     ];
     for (map, scen, agents) in cases {
         let (map, scen) = (data(map), data(scen));
-        for planner in mrpp::grid_mapf::PLANNER_NAMES {
+        for planner in mrpp_grid::PLANNERS.iter().map(|e| e.name) {
             let out = tmp(&format!("{planner}.json"));
             let mut args = vec![
                 "solve",

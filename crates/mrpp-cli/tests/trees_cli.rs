@@ -102,8 +102,10 @@ fn json(p: &Path) -> serde_json::Value {
 }
 
 /// `trees validate` must accept the plan; returns its stdout.
+/// `mrpp trees validate` on a plan it must accept; the independent checker
+/// (`tools/check/trees.py`) must accept it too, with the same metrics.
 fn valid(inst: &Path, plan: &Path) -> String {
-    run(
+    let out = run(
         &[
             "trees",
             "validate",
@@ -114,7 +116,30 @@ fn valid(inst: &Path, plan: &Path) -> String {
         ],
         0,
     )
-    .0
+    .0;
+    let checker = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tools/check/trees.py");
+    let o = std::process::Command::new("python3")
+        .arg(checker)
+        .arg(inst)
+        .arg(plan)
+        .output()
+        .expect("python3 runs the independent checker");
+    let line = String::from_utf8_lossy(&o.stdout).trim().to_string();
+    let verdict: serde_json::Value =
+        serde_json::from_str(&line).unwrap_or_else(|e| panic!("{line}: {e}"));
+    assert!(
+        o.status.success() && verdict["valid"] == true,
+        "checker: {line}"
+    );
+    for key in ["sum_of_costs", "makespan", "sum_of_moves"] {
+        let ours = format!("{key} {}", verdict[key]);
+        assert!(
+            out.contains(&ours),
+            "mrpp says `{out}`, the checker {key} = {}",
+            verdict[key]
+        );
+    }
+    out
 }
 
 const SMALL_GP: [&str; 6] = ["--population", "40", "--generations", "6", "--runs", "1"];
@@ -143,10 +168,12 @@ fn gen_solve_psw_validate_round_trip() {
     );
     let p = json(&plan);
     assert_eq!(p["solved"], true);
-    assert_eq!(p["goal_semantics"], "visit");
+    assert_eq!(p["format"], "mrpp-plan/1");
+    assert_eq!(p["family"], "trees");
+    assert_eq!(p["rules"]["goal"], "visit");
     assert_eq!(p["planner"], "psw");
-    assert_eq!(p["instance_file"], "instance.json");
-    assert_eq!(p["metrics"]["time_steps"], p["metrics"]["makespan"]);
+    assert_eq!(p["world"]["file"], "instance.json");
+    assert!(p["metrics"]["makespan"].as_u64().unwrap() > 0);
     assert_eq!(p["agents"][0]["start"], t["robots"][0]["start"]);
     assert!(valid(&inst, &plan).contains("valid:"));
 
@@ -166,7 +193,7 @@ fn gen_solve_psw_validate_round_trip() {
         ],
         0,
     );
-    assert_eq!(json(&strict)["allow_following"], false);
+    assert_eq!(json(&strict)["rules"]["following"], false);
     assert!(valid(&inst, &strict).contains("following forbidden"));
     cleanup("psw");
 }
@@ -258,9 +285,12 @@ fn bundled_program_solves_bundled_example() {
         ],
         0,
     );
-    assert!(out.contains("time_steps 70"), "{out}");
+    assert!(out.contains("makespan 70"), "{out}");
     let v = valid(Path::new(&data("example.json")), &plan);
-    assert!(v.contains("18 robots | time_steps 70"), "{v}");
+    assert!(
+        v.contains("18 agents | sum_of_costs") && v.contains("makespan 70"),
+        "{v}"
+    );
     // The program evolved at the paper's settings: 44 steps, a valid plan.
     let (out, _) = run(
         &[
@@ -275,9 +305,12 @@ fn bundled_program_solves_bundled_example() {
         ],
         0,
     );
-    assert!(out.contains("time_steps 44"), "{out}");
+    assert!(out.contains("makespan 44"), "{out}");
     let v = valid(Path::new(&data("example.json")), &plan);
-    assert!(v.contains("18 robots | time_steps 44"), "{v}");
+    assert!(
+        v.contains("18 agents | sum_of_costs") && v.contains("makespan 44"),
+        "{v}"
+    );
     // The bundled instance is what its README command makes.
     let again = generate("bundled", "1", "5", &["--robots", "18"]);
     assert_eq!(
@@ -316,7 +349,7 @@ fn gp_is_deterministic_for_a_seed() {
             assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
             let mut v = json(&plan);
             // The only field allowed to differ: wall time.
-            v["metrics"]["runtime_ms"] = serde_json::Value::Null;
+            v["runtime_ms"] = serde_json::Value::Null;
             v
         })
         .collect();
@@ -606,8 +639,8 @@ fn validate_rejects_tampered_plans() {
         "claims sum_of_costs 1",
     );
     check(
-        &|v| v["metrics"]["time_steps"] = serde_json::json!(2),
-        "claims time_steps 2",
+        &|v| v["metrics"]["makespan"] = serde_json::json!(2),
+        "claims makespan 2",
     );
     check(
         &|v| v["agents"][0]["path"][1] = serde_json::json!(99),

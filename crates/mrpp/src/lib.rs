@@ -1,25 +1,16 @@
-//! mrpp: multi-robot path planning.
+//! mrpp: multi-robot path planning in Rust. A facade over the workspace's crates, so a user needs
+//! one dependency:
 //!
-//! One graph/instance/plan model, one validator ([`plan::Plan::validate`]) that judges every plan,
-//! and the planners of the grid MAPF family (`grid_mapf`). The library never prints and never
-//! exits; the `mrpp` binary turns its results and typed errors into files, messages and exit codes.
+//! - [`core`] (`mrpp-core`): the contract (`Problem`, `Planner`, `solve`, registry, plan
+//!   envelope) and discrete graph MAPF (graph, instance, rules, validator, searches);
+//! - [`grid`] (`mrpp-grid`): grid MAPF (MovingAI and H*-paper files; H*, CA*/HCA*/WHCA*,
+//!   Enol2023, NSGA-III);
+//! - [`trees`] (`mrpp-trees`): single-lane trees (generator, Push-Swap-Wait, GP);
+//! - [`evo`] (`mrpp-evo`): generic, seeded metaheuristics.
 
-pub mod error;
-pub mod graph;
-pub mod grid;
-pub mod instance;
-pub mod plan;
+pub use mrpp_core as core;
+pub use mrpp_evo as evo;
+pub use mrpp_grid as grid;
+pub use mrpp_trees as trees;
 
-pub use error::{Error, Result};
-pub use graph::{Graph, VertexId};
-pub use grid::GridMap;
-pub use instance::Instance;
-pub use plan::{GoalSemantics, Metrics, Plan, ValidateOptions, Violation};
-pub mod evo;
-pub mod experiments;
-pub mod grid_mapf;
-pub mod io;
-pub mod search;
-pub mod seeds;
-pub mod solve;
-pub mod trees;
+pub use mrpp_core::{Ctx, Deadline, MapfProblem, Planner, Problem, Solved, Unsolved, solve};

@@ -1,0 +1,363 @@
+//! The one family table of the command line, and the generic verbs every family gets from it.
+//!
+//! A family is a [`Def`]: its name, its planner registry, and how its files become a problem
+//! ([`Def::load`]), how a plan file is read back ([`Def::read_plan`]), and what `info`/`render`
+//! show. `solve`, `validate` and `planners` are written once here, generically; the family comes
+//! from the planner name (names are unique across families) or from the inputs. Adding a family
+//! is one line in [`FAMILIES`].
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use serde_json::{Map, Value};
+
+use mrpp_core::mapf::plan_file::RunInfo;
+use mrpp_core::registry::find;
+use mrpp_core::{Ctx, Deadline, Params, Planner, PlannerEntry, Problem, Solved, Unsolved, solve};
+
+use crate::output::{Fail, metrics_object, pairs, time_limit, write_atomic};
+use crate::progress;
+
+/// Every family the binary knows, in the order `mrpp planners` lists them.
+pub(crate) static FAMILIES: &[&dyn Family] = &[
+    &crate::grid_family::GRID,
+    &crate::tree_family::TREES,
+    #[cfg(test)]
+    &crate::toy_family::TOY,
+    #[cfg(test)]
+    &crate::toy_family::BROKEN_GRID,
+    #[cfg(test)]
+    &crate::toy_family::BROKEN_TREES,
+];
+
+/// The input files of any family (which ones a family reads is its own business).
+#[derive(clap::Args, Debug, Clone, Default)]
+pub(crate) struct Inputs {
+    /// Grid map: MovingAI `.map` or the H* paper's ASCII map (detected from the content).
+    #[arg(long)]
+    pub(crate) map: Option<PathBuf>,
+    /// Grid agents: MovingAI `.scen` or an H* robot file `x,y;x,y` (detected from the content).
+    #[arg(long)]
+    pub(crate) scen: Option<PathBuf>,
+    /// Use the first N agents of the scenario (default: all).
+    #[arg(long)]
+    pub(crate) agents: Option<usize>,
+    /// Tree instance JSON: {"nodes": N, "edges": [[u, v], ...], "robots": [{"start", "goal"}]}.
+    #[arg(long)]
+    pub(crate) instance: Option<PathBuf>,
+    /// The world file of families that have one file (e.g. the test family).
+    #[arg(long)]
+    pub(crate) world: Option<PathBuf>,
+    /// Trees: forbid following (entering a node another robot leaves in the same step).
+    #[arg(long)]
+    pub(crate) no_following: bool,
+}
+
+/// Output format of `solve`.
+#[derive(Clone, Copy, PartialEq, Eq, Debug, clap::ValueEnum)]
+pub(crate) enum Format {
+    /// The plan envelope (every family).
+    Json,
+    /// The LaCAM/PIBT text result that MAPF visualizers read (grids).
+    Lacam,
+}
+
+/// One `solve` request, whatever the family.
+pub(crate) struct SolveRequest {
+    pub(crate) inputs: Inputs,
+    pub(crate) planner: String,
+    pub(crate) params: Vec<(String, String)>,
+    pub(crate) seed: u64,
+    pub(crate) time_limit: f64,
+    pub(crate) out: Option<PathBuf>,
+    pub(crate) format: Format,
+    /// Where to write a program the planner made (GP), if it made one.
+    pub(crate) save_program: Option<PathBuf>,
+    /// The command name in the summary (`solve`, `trees solve`, ...).
+    pub(crate) command: &'static str,
+}
+
+/// A family as the command line sees it, with its problem type erased.
+pub(crate) trait Family: Sync {
+    fn name(&self) -> &'static str;
+    /// `(name, about, [(param, default, doc)])` of every planner.
+    fn planners(&self) -> Vec<(&'static str, &'static str, Vec<mrpp_core::Param>)>;
+    fn has_planner(&self, name: &str) -> bool;
+    /// Whether `inputs` are this family's (for `validate`, `info`, `render`).
+    fn claims(&self, inputs: &Inputs) -> bool;
+    fn solve(&self, req: &SolveRequest) -> Result<u8, Fail>;
+    fn validate(&self, inputs: &Inputs, plan: &Path) -> Result<u8, Fail>;
+    fn info(&self, inputs: &Inputs) -> Result<u8, Fail>;
+    fn render(&self, inputs: &Inputs, plan: &Path, out: &Path) -> Result<u8, Fail>;
+}
+
+/// A loaded problem, ready to plan on.
+pub(crate) struct Loaded<P: Problem> {
+    pub(crate) problem: P,
+    /// One line about the world and the agents, e.g. `map room.map | agents 10`.
+    pub(crate) summary: String,
+    /// Writes the plan file of a run (given its header, outcome and the planner's notes).
+    #[allow(clippy::type_complexity)]
+    pub(crate) write:
+        Box<dyn Fn(&P, RunInfo, &Outcome<P>, Map<String, Value>, Format) -> Result<String, Fail>>,
+}
+
+/// What a planner run gave.
+pub(crate) type Outcome<P> = Result<Solved<P>, Unsolved>;
+
+/// A plan file read back with its problem.
+pub(crate) struct ReadPlan<P: Problem> {
+    pub(crate) problem: P,
+    pub(crate) plan: P::Plan,
+    /// The metrics the file claims (compared with the validator's).
+    pub(crate) claims: Map<String, Value>,
+    /// Extra words for the summary, e.g. `planner gp | seed 5 | following allowed`.
+    pub(crate) about: String,
+}
+
+/// `mrpp info` of a family.
+pub(crate) type InfoFn = fn(&Inputs) -> Result<u8, Fail>;
+/// `mrpp render` of a family: inputs, plan file, output picture.
+pub(crate) type RenderFn = fn(&Inputs, &Path, &Path) -> Result<u8, Fail>;
+
+/// A family: its registry and how its files are read and written.
+pub(crate) struct Def<P: Problem + 'static> {
+    pub(crate) name: &'static str,
+    pub(crate) planners: &'static [PlannerEntry<P>],
+    pub(crate) claims: fn(&Inputs) -> bool,
+    pub(crate) load: fn(&Inputs) -> Result<Loaded<P>, Fail>,
+    pub(crate) read_plan: fn(&Inputs, &Path) -> Result<ReadPlan<P>, Fail>,
+    pub(crate) info: Option<InfoFn>,
+    pub(crate) render: Option<RenderFn>,
+}
+
+impl<P: Problem + 'static> Family for Def<P> {
+    fn name(&self) -> &'static str {
+        self.name
+    }
+    fn planners(&self) -> Vec<(&'static str, &'static str, Vec<mrpp_core::Param>)> {
+        self.planners
+            .iter()
+            .map(|e| (e.name, e.about, e.params.to_vec()))
+            .collect()
+    }
+    fn has_planner(&self, name: &str) -> bool {
+        find(self.planners, name).is_some()
+    }
+    fn claims(&self, inputs: &Inputs) -> bool {
+        (self.claims)(inputs)
+    }
+    fn solve(&self, req: &SolveRequest) -> Result<u8, Fail> {
+        solve_with(self, req)
+    }
+    fn validate(&self, inputs: &Inputs, plan: &Path) -> Result<u8, Fail> {
+        validate_with(self, inputs, plan)
+    }
+    fn info(&self, inputs: &Inputs) -> Result<u8, Fail> {
+        let info = self.info.ok_or_else(|| self.lacks("info"))?;
+        info(inputs)
+    }
+    fn render(&self, inputs: &Inputs, plan: &Path, out: &Path) -> Result<u8, Fail> {
+        let render = self.render.ok_or_else(|| self.lacks("render"))?;
+        render(inputs, plan, out)
+    }
+}
+
+impl<P: Problem + 'static> Def<P> {
+    fn lacks(&self, verb: &str) -> Fail {
+        Fail(format!(
+            "`mrpp {verb}` is not available for {} problems yet",
+            self.name
+        ))
+    }
+}
+
+/// The family whose registry has `planner`.
+pub(crate) fn family_of_planner(planner: &str) -> Result<&'static dyn Family, Fail> {
+    FAMILIES
+        .iter()
+        .copied()
+        .find(|f| f.has_planner(planner))
+        .ok_or_else(|| {
+            let known: Vec<&str> = FAMILIES
+                .iter()
+                .flat_map(|f| f.planners().into_iter().map(|p| p.0))
+                .collect();
+            Fail(format!(
+                "unknown planner `{planner}` (known: {}; `mrpp planners` lists them)",
+                known.join(", ")
+            ))
+        })
+}
+
+/// The family whose files `inputs` name.
+pub(crate) fn family_of_inputs(inputs: &Inputs) -> Result<&'static dyn Family, Fail> {
+    FAMILIES
+        .iter()
+        .copied()
+        .find(|f| f.claims(inputs))
+        .ok_or_else(|| {
+            Fail(
+                "name the problem's files: --map (and --scen) for grids, --instance for trees"
+                    .into(),
+            )
+        })
+}
+
+/// The generic `solve`: load, build the planner from the registry, plan through the core
+/// `solve` (which validates once), print the summary, write the plan file, exit 0 solved,
+/// 3 not solved; an invalid plan (a bug) is an error (exit 1) and nothing is written.
+fn solve_with<P: Problem + 'static>(def: &Def<P>, req: &SolveRequest) -> Result<u8, Fail> {
+    let limit = time_limit(req.time_limit)?;
+    if !(def.claims)(&req.inputs) {
+        return Err(Fail(format!(
+            "planner `{}` is for {} problems, and these inputs are not (see `mrpp solve --help`)",
+            req.planner, def.name
+        )));
+    }
+    let entry = find(def.planners, &req.planner).expect("the family has this planner");
+    let params = Params::resolve(entry.name, entry.params, &req.params)?;
+    let planner = (entry.build)(&params)?;
+    let loaded = (def.load)(&req.inputs)?;
+    let bar = progress::bar();
+    let ctx = Ctx {
+        progress: Some(progress::callback(&bar)),
+        ..Ctx::new(req.seed, Deadline::after(limit))
+    };
+    println!(
+        "mrpp {} | {} | family {} | planner {} | seed {} | {}",
+        env!("CARGO_PKG_VERSION"),
+        req.command,
+        def.name,
+        entry.name,
+        req.seed,
+        loaded.summary
+    );
+    let started = Instant::now();
+    let outcome = solve(planner.as_ref(), &loaded.problem, &ctx);
+    bar.finish_and_clear();
+    let runtime_ms = started.elapsed().as_secs_f64() * 1e3;
+    report(&outcome, runtime_ms, planner.as_ref())?;
+    let info = RunInfo {
+        planner: entry.name.to_string(),
+        params: params
+            .iter()
+            .map(|(k, v)| (k.to_string(), v.to_string()))
+            .collect::<BTreeMap<_, _>>(),
+        seed: req.seed,
+        runtime_ms,
+        ..RunInfo::default()
+    };
+    write_outputs(&loaded, req, info, &outcome, planner.notes())?;
+    Ok(if outcome.is_ok() { 0 } else { 3 })
+}
+
+/// Prints the outcome line (and the planner's short notes); an invalid plan is an error.
+fn report<P: Problem>(
+    outcome: &Outcome<P>,
+    runtime_ms: f64,
+    planner: &dyn Planner<P>,
+) -> Result<(), Fail> {
+    match outcome {
+        Ok(s) => println!(
+            "solved: {} | runtime {runtime_ms:.1} ms",
+            pairs(&metrics_object(&s.metrics))
+        ),
+        Err(Unsolved::Invalid(why)) => {
+            return Err(Fail(format!("invalid plan (a bug in mrpp): {why}")));
+        }
+        Err(why) => println!("not solved: {why} | runtime {runtime_ms:.1} ms"),
+    }
+    let notes = pairs(&planner.notes());
+    if !notes.is_empty() {
+        println!("{}: {notes}", planner.name());
+    }
+    Ok(())
+}
+
+/// Writes the plan file and a made program, each atomically.
+fn write_outputs<P: Problem>(
+    loaded: &Loaded<P>,
+    req: &SolveRequest,
+    info: RunInfo,
+    outcome: &Outcome<P>,
+    notes: Map<String, Value>,
+) -> Result<(), Fail> {
+    let program = notes
+        .get("program")
+        .and_then(Value::as_str)
+        .map(str::to_string);
+    if let Some(out) = &req.out {
+        let text = (loaded.write)(&loaded.problem, info, outcome, notes, req.format)?;
+        write_atomic(out, &text)?;
+        println!("plan written to {}", out.display());
+    }
+    match (&req.save_program, program) {
+        (Some(path), Some(p)) => {
+            write_atomic(path, &format!("{p}\n"))?;
+            println!("program written to {}", path.display());
+        }
+        (Some(path), None) => println!("no program made the plan: {} not written", path.display()),
+        (None, _) => {}
+    }
+    Ok(())
+}
+
+/// The generic `validate`: exit 0 when the plan is valid and its claims hold, 1 naming the first
+/// violation.
+fn validate_with<P: Problem + 'static>(
+    def: &Def<P>,
+    inputs: &Inputs,
+    plan_path: &Path,
+) -> Result<u8, Fail> {
+    let read = (def.read_plan)(inputs, plan_path)?;
+    let m = read
+        .problem
+        .validate(&read.plan)
+        .map_err(|v| Fail(format!("{}: invalid plan: {v}", plan_path.display())))?;
+    let actual = metrics_object(&m);
+    for (k, real) in &actual {
+        if let Some(claim) = read.claims.get(k).filter(|c| !c.is_null() && *c != real) {
+            return Err(Fail(format!(
+                "{}: plan claims {k} {claim} but its paths give {real}",
+                plan_path.display()
+            )));
+        }
+    }
+    println!(
+        "valid: {} agents | {}{}",
+        read.problem.num_agents(),
+        pairs(&actual),
+        if read.about.is_empty() {
+            String::new()
+        } else {
+            format!(" | {}", read.about)
+        }
+    );
+    Ok(0)
+}
+
+/// `mrpp planners [--family F]`: every planner with its description and parameters.
+pub(crate) fn list_planners(family: Option<&str>) -> Result<u8, Fail> {
+    if let Some(f) = family.filter(|f| !FAMILIES.iter().any(|x| x.name() == *f)) {
+        let names: Vec<&str> = FAMILIES.iter().map(|x| x.name()).collect();
+        return Err(Fail(format!(
+            "unknown family `{f}` (known: {})",
+            names.join(", ")
+        )));
+    }
+    for fam in FAMILIES
+        .iter()
+        .filter(|x| family.is_none_or(|f| x.name() == f))
+    {
+        for (name, about, params) in fam.planners() {
+            println!("{name:<12} [{}] {about}", fam.name());
+            for p in params {
+                let kv = format!("{}={}", p.name, p.default);
+                println!("    -p {kv:<24} {}", p.doc);
+            }
+        }
+    }
+    Ok(0)
+}

@@ -1,0 +1,191 @@
+//! The grid family on the command line: `--map M --scen S [--agents N]`, plans as the envelope
+//! with `[x, y]` cells or as LaCAM text, `info` (lower bounds) and `render` (SVG).
+
+use std::path::{Path, PathBuf};
+
+use serde_json::{Map, Value};
+
+use mrpp_core::mapf::plan_file::RunInfo;
+use mrpp_core::mapf::search::distance::lower_bounds;
+use mrpp_core::{Instance, MapfProblem, Problem};
+use mrpp_grid::GridMap;
+use mrpp_grid::io::lacam::{parse_lacam, write_lacam};
+use mrpp_grid::io::plan_json::{grid_envelope, read_grid_plan};
+use mrpp_grid::io::render::render_svg;
+
+use crate::family::{Def, Format, Inputs, Loaded, Outcome, ReadPlan};
+use crate::output::{Fail, file_name, write_atomic};
+
+/// The grid family.
+pub(crate) static GRID: Def<MapfProblem> = def();
+
+/// The grid family's definition (a `const fn` so that tests can build variants of it).
+pub(crate) const fn def() -> Def<MapfProblem> {
+    Def {
+        name: mrpp_grid::FAMILY,
+        planners: mrpp_grid::PLANNERS,
+        claims: |i| i.map.is_some() && i.instance.is_none(),
+        load,
+        read_plan,
+        info: Some(info),
+        render: Some(render),
+    }
+}
+
+fn need<'a>(path: &'a Option<PathBuf>, flag: &str) -> Result<&'a Path, Fail> {
+    path.as_deref()
+        .ok_or_else(|| Fail(format!("grid problems need {flag}")))
+}
+
+fn load(inputs: &Inputs) -> Result<Loaded<MapfProblem>, Fail> {
+    let map_path = need(&inputs.map, "--map")?;
+    let (map, problem) =
+        mrpp_grid::load_problem(map_path, need(&inputs.scen, "--scen")?, inputs.agents)?;
+    let map_file = file_name(map_path);
+    Ok(Loaded {
+        summary: format!("map {map_file} | agents {}", problem.num_agents()),
+        problem,
+        write: Box::new(move |problem, info, outcome, notes, format| {
+            Ok(write_plan(
+                &map, &map_file, problem, info, outcome, notes, format,
+            ))
+        }),
+    })
+}
+
+fn write_plan(
+    map: &GridMap,
+    map_file: &str,
+    problem: &MapfProblem,
+    info: RunInfo,
+    outcome: &Outcome<MapfProblem>,
+    notes: Map<String, Value>,
+    format: Format,
+) -> String {
+    match format {
+        Format::Json => {
+            let mut env = grid_envelope(map, map_file, problem, info, outcome);
+            env.extra.extend(notes);
+            env.to_json()
+        }
+        Format::Lacam => {
+            let solved = outcome.as_ref().ok().map(|s| (&s.plan, s.metrics));
+            write_lacam(
+                map,
+                map_file,
+                &info.planner,
+                problem.instance(),
+                solved,
+                info.runtime_ms,
+            )
+        }
+    }
+}
+
+/// Reads a plan file in either format (JSON starts with `{`), checked against `--scen` when given.
+fn read_plan(inputs: &Inputs, plan_path: &Path) -> Result<ReadPlan<MapfProblem>, Fail> {
+    let map = GridMap::load(need(&inputs.map, "--map")?)?;
+    let text = mrpp_core::error::read_file(plan_path)?;
+    let (problem, plan, claims, about) = if text.trim_start().starts_with('{') {
+        let (problem, plan, env) = read_grid_plan(&map, &text, plan_path)?;
+        let about = format!("planner {} | seed {}", or_unknown(&env.planner), env.seed);
+        (problem, plan, env.metrics, about)
+    } else {
+        let (inst, plan) = parse_lacam(&text, plan_path, &map)?;
+        (
+            mrpp_grid::problem_on(&map, inst),
+            plan,
+            Map::new(),
+            String::new(),
+        )
+    };
+    if let Some(scen) = &inputs.scen {
+        check_against_scenario(&map, problem.instance(), scen, inputs.agents, plan_path)?;
+    }
+    Ok(ReadPlan {
+        problem,
+        plan,
+        claims,
+        about,
+    })
+}
+
+fn or_unknown(s: &str) -> &str {
+    if s.is_empty() { "?" } else { s }
+}
+
+/// The plan's starts and goals must be the scenario's first agents.
+fn check_against_scenario(
+    map: &GridMap,
+    inst: &Instance,
+    scen: &Path,
+    agents: Option<usize>,
+    plan_path: &Path,
+) -> Result<(), Fail> {
+    let expected = mrpp_grid::scen::load_agents(scen, map, agents.or(Some(inst.num_agents())))?;
+    if expected.num_agents() != inst.num_agents() {
+        return Err(Fail(format!(
+            "{}: plan has {} agents but the scenario has {}",
+            plan_path.display(),
+            inst.num_agents(),
+            expected.num_agents()
+        )));
+    }
+    let g = map.graph();
+    for i in 0..inst.num_agents() {
+        for (what, a, b) in [
+            ("start", inst.starts[i], expected.starts[i]),
+            ("goal", inst.goals[i], expected.goals[i]),
+        ] {
+            if a != b {
+                return Err(Fail(format!(
+                    "{}: agent {i} has {what} {} but the scenario says {}",
+                    plan_path.display(),
+                    g.label(a),
+                    g.label(b)
+                )));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// `mrpp info`: map size, corridor nodes, and lower bounds on any valid plan.
+fn info(inputs: &Inputs) -> Result<u8, Fail> {
+    let map_path = need(&inputs.map, "--map")?;
+    let scen_path = need(&inputs.scen, "--scen")?;
+    let (map, problem) = mrpp_grid::load_problem(map_path, scen_path, inputs.agents)?;
+    let (g, inst) = (problem.graph(), problem.instance());
+    let corridors = mrpp_grid::corridors::Corridors::build(g);
+    let (sum, max) = lower_bounds(g, &inst.starts, &inst.goals).map_err(|i| {
+        Fail(format!(
+            "{}: agent {i} cannot reach its goal {} from {}",
+            scen_path.display(),
+            g.label(inst.goals[i]),
+            g.label(inst.starts[i])
+        ))
+    })?;
+    println!(
+        "map {} {}x{} | free cells {} | corridor-compressed nodes {} | agents {}",
+        file_name(map_path),
+        map.width(),
+        map.height(),
+        g.num_vertices(),
+        corridors.num_nodes(),
+        inst.num_agents()
+    );
+    println!("lower bounds: sum_of_costs >= {sum} | makespan >= {max}");
+    Ok(0)
+}
+
+/// `mrpp render`: the map, starts, goals and paths as SVG.
+fn render(inputs: &Inputs, plan: &Path, out: &Path) -> Result<u8, Fail> {
+    let read = read_plan(inputs, plan)?;
+    let map = GridMap::load(need(&inputs.map, "--map")?)?;
+    write_atomic(
+        out,
+        &render_svg(&map, read.problem.instance(), Some(&read.plan)),
+    )?;
+    println!("picture written to {}", out.display());
+    Ok(0)
+}

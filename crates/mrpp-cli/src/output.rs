@@ -1,0 +1,81 @@
+//! What every command shares on the way out: the one error type (exit 1, one line), atomic file
+//! writes, time limits, and the one-line summaries of metrics.
+
+use std::path::Path;
+use std::time::Duration;
+
+use serde_json::{Map, Value};
+
+/// A failure that ends the command with exit code 1 and one message.
+pub(crate) struct Fail(pub(crate) String);
+
+impl<E: std::fmt::Display> From<E> for Fail {
+    fn from(e: E) -> Self {
+        Fail(e.to_string())
+    }
+}
+
+/// Largest accepted `--time-limit`, in seconds (about 115 days), shared by every command.
+pub(crate) const MAX_TIME_LIMIT: f64 = 1e7;
+
+/// A `--time-limit` in seconds, checked: positive, finite, at most [`MAX_TIME_LIMIT`].
+pub(crate) fn time_limit(seconds: f64) -> Result<Duration, Fail> {
+    if !(seconds.is_finite() && seconds > 0.0 && seconds <= MAX_TIME_LIMIT) {
+        return Err(Fail(format!(
+            "--time-limit must be a positive number of seconds, got {seconds}"
+        )));
+    }
+    Ok(Duration::from_secs_f64(seconds))
+}
+
+/// Writes `contents` to `path` through a temporary file in the same directory, so a reader never
+/// sees half a file.
+pub(crate) fn write_atomic(path: &Path, contents: &str) -> Result<(), Fail> {
+    let dir = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let name = path
+        .file_name()
+        .ok_or_else(|| Fail(format!("{}: not a file name", path.display())))?;
+    let tmp = dir.join(format!(
+        ".{}.tmp{}",
+        name.to_string_lossy(),
+        std::process::id()
+    ));
+    std::fs::write(&tmp, contents)
+        .map_err(|e| Fail(format!("{}: cannot write: {e}", path.display())))?;
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        Fail(format!("{}: cannot write: {e}", path.display()))
+    })
+}
+
+/// The last component of `path` (what outputs record).
+pub(crate) fn file_name(path: &Path) -> String {
+    path.file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default()
+}
+
+/// `key value | key value ...` of a JSON object's short values (strings over 40 characters,
+/// arrays and objects left out), in the object's order.
+pub(crate) fn pairs(values: &Map<String, Value>) -> String {
+    values
+        .iter()
+        .filter_map(|(k, v)| match v {
+            Value::String(s) if s.len() <= 40 => Some(format!("{k} {s}")),
+            Value::Number(_) | Value::Bool(_) => Some(format!("{k} {v}")),
+            _ => None,
+        })
+        .collect::<Vec<_>>()
+        .join(" | ")
+}
+
+/// The metrics of a problem family as a JSON object (field order kept).
+pub(crate) fn metrics_object<M: serde::Serialize>(m: &M) -> Map<String, Value> {
+    match serde_json::to_value(m) {
+        Ok(Value::Object(o)) => o,
+        _ => Map::new(),
+    }
+}

@@ -1,0 +1,471 @@
+//! The tree family on the command line: `--instance I [--no-following]`, plans as the envelope
+//! with node ids (a GP plan also records its program), and the `mrpp trees ...` commands:
+//! `gen` (the GP paper's Algorithm 2) and `solve` / `run` / `validate`, which are the generic
+//! verbs under their old names (every flag of earlier versions still works).
+
+use std::path::{Path, PathBuf};
+
+use clap::{Args, Subcommand, ValueEnum};
+use serde_json::{Map, Value};
+
+use mrpp_core::MapfProblem;
+use mrpp_core::mapf::plan_file::RunInfo;
+use mrpp_trees::gp::GpParams;
+use mrpp_trees::plan_json::{read_tree_plan, tree_envelope};
+use mrpp_trees::{ProblemSpec, RobotCount, TreeInstance, generate_problem, tree_problem};
+
+use crate::family::{Def, Format, Inputs, Loaded, Outcome, ReadPlan, SolveRequest};
+use crate::output::{Fail, file_name, write_atomic};
+
+/// Largest depth budget `trees gen` accepts (the paper uses 4–10).
+const MAX_DEPTH: u32 = 30;
+/// Largest branching factor `trees gen` accepts (the paper uses 4).
+const MAX_BRANCHING: u32 = 16;
+
+/// The tree family.
+pub(crate) static TREES: Def<MapfProblem> = def();
+
+/// The tree family's definition (a `const fn` so that tests can build variants of it).
+pub(crate) const fn def() -> Def<MapfProblem> {
+    Def {
+        name: mrpp_trees::FAMILY,
+        planners: mrpp_trees::PLANNERS,
+        claims: |i| i.instance.is_some(),
+        load,
+        read_plan,
+        info: None,
+        render: None,
+    }
+}
+
+fn instance_path(inputs: &Inputs) -> Result<&Path, Fail> {
+    inputs
+        .instance
+        .as_deref()
+        .ok_or_else(|| Fail("tree problems need --instance".into()))
+}
+
+fn load(inputs: &Inputs) -> Result<Loaded<MapfProblem>, Fail> {
+    let path = instance_path(inputs)?;
+    let tree = TreeInstance::load(path)?;
+    let following = !inputs.no_following;
+    let instance_file = file_name(path);
+    Ok(Loaded {
+        summary: format!(
+            "instance {instance_file} | nodes {} | robots {} | following {}",
+            tree.num_nodes(),
+            tree.num_robots(),
+            if following { "allowed" } else { "forbidden" }
+        ),
+        problem: tree_problem(&tree, following),
+        write: Box::new(move |problem, info, outcome, notes, format| {
+            write_plan(&instance_file, problem, info, outcome, notes, format)
+        }),
+    })
+}
+
+fn write_plan(
+    instance_file: &str,
+    problem: &MapfProblem,
+    info: RunInfo,
+    outcome: &Outcome<MapfProblem>,
+    notes: Map<String, Value>,
+    format: Format,
+) -> Result<String, Fail> {
+    if format != Format::Json {
+        return Err(Fail(
+            "tree plans are written as JSON only (--format json)".into(),
+        ));
+    }
+    let mut env = tree_envelope(instance_file, problem, info, outcome, None);
+    env.extra.extend(notes);
+    Ok(env.to_json())
+}
+
+fn read_plan(inputs: &Inputs, plan_path: &Path) -> Result<ReadPlan<MapfProblem>, Fail> {
+    let tree = TreeInstance::load(instance_path(inputs)?)?;
+    let text = mrpp_core::error::read_file(plan_path)?;
+    let (problem, plan, env) = read_tree_plan(&tree, &text, plan_path, inputs.no_following)?;
+    let planner = if env.planner.is_empty() {
+        "?"
+    } else {
+        env.planner.as_str()
+    };
+    let about = format!(
+        "following {} | planner {planner} | seed {}",
+        if problem.rules().allow_following {
+            "allowed"
+        } else {
+            "forbidden"
+        },
+        env.seed
+    );
+    Ok(ReadPlan {
+        problem,
+        plan,
+        claims: env.metrics,
+        about,
+    })
+}
+
+#[derive(Subcommand)]
+pub(crate) enum Trees {
+    /// Generate a random tree problem (the paper's Algorithm 2 and random robots) as JSON.
+    Gen {
+        /// Seed of the random stream (the same seed and parameters give the same file).
+        #[arg(long)]
+        seed: u64,
+        /// Depth budget, Algorithm 2's "seed" (paper: 4–10; at most 30).
+        #[arg(long)]
+        depth: u32,
+        /// Maximum branching factor b: a node gets 0..b-1 children (paper: 4; 3 to 16).
+        #[arg(long, default_value_t = 4)]
+        branching: u32,
+        /// Number of robots (at most the node count minus 2).
+        #[arg(long)]
+        robots: Option<usize>,
+        /// Robots = floor(M x leaves), capped at the node count minus 2 (paper: 0.25 to 1.5).
+        #[arg(long, allow_negative_numbers = true)]
+        leaf_multiplier: Option<f64>,
+        /// Refuse trees with more nodes than this: with b = 4 the tree size varies wildly with the
+        /// seed at large depths (depth 30 gives from a few nodes to millions), and neither
+        /// planner can do anything useful on such trees. The generator itself stops at 2^22.
+        #[arg(long, default_value_t = 100_000)]
+        max_nodes: usize,
+        /// Write the instance here.
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// Solve a tree instance with PSW or GP and write the plan (same as `mrpp solve --instance`).
+    Solve {
+        #[arg(long)]
+        instance: PathBuf,
+        /// psw (Push-Swap-Wait) or gp (evolve a program for this instance).
+        #[arg(long, value_enum)]
+        planner: TreePlanner,
+        /// With --planner gp: run this saved program instead of evolving one (`-p program=P`).
+        #[arg(long)]
+        program: Option<PathBuf>,
+        /// Seed of the GP evolution (PSW is deterministic; the seed is only recorded).
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// Wall-clock limit in seconds.
+        #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
+        time_limit: f64,
+        /// Forbid following (entering a node that another robot leaves in the same step).
+        #[arg(long)]
+        no_following: bool,
+        #[command(flatten)]
+        gp: Box<GpParamArgs>,
+        /// Write the evolved program here (S-expression; `mrpp trees run --program` reads it).
+        #[arg(long)]
+        save_program: Option<PathBuf>,
+        /// Planner parameters `key=value` (see `mrpp planners --family trees`).
+        #[arg(short = 'p', long = "param", value_name = "KEY=VALUE")]
+        params: Vec<String>,
+        /// Write the plan here (also written when not solved, with "solved": false).
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Run a saved GP program on a tree instance and write its plan (`--planner gp -p program=P`).
+    Run {
+        /// GP program file (S-expression, as written by `trees solve --save-program`).
+        #[arg(long)]
+        program: PathBuf,
+        #[arg(long)]
+        instance: PathBuf,
+        #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
+        time_limit: f64,
+        #[arg(long)]
+        no_following: bool,
+        #[arg(long)]
+        out: Option<PathBuf>,
+    },
+    /// Check a tree plan against its instance: exit 0 when valid, 1 naming the first violation.
+    Validate {
+        #[arg(long)]
+        instance: PathBuf,
+        #[arg(long)]
+        plan: PathBuf,
+        /// Judge with following forbidden even when the plan file allows it.
+        #[arg(long)]
+        no_following: bool,
+    },
+}
+
+#[derive(Clone, Copy, PartialEq, Eq, ValueEnum)]
+pub(crate) enum TreePlanner {
+    Psw,
+    Gp,
+}
+
+/// The GP evolution's parameters, shared by `trees solve` and the GP experiments.
+#[derive(Args)]
+pub(crate) struct GpParamArgs {
+    /// |P|: programs per generation (default 200, experiments 1000; paper 2000).
+    #[arg(long)]
+    pub(crate) population: Option<usize>,
+    /// i_g: generations per run (default 25, experiments 50; paper 400).
+    #[arg(long)]
+    pub(crate) generations: Option<usize>,
+    /// i_r: independent runs (default 2, experiments 3; paper 5).
+    #[arg(long)]
+    pub(crate) runs: Option<usize>,
+    /// Start from the paper's settings (|P| = 2000, 5 runs of 400 generations, cap M).
+    #[arg(long)]
+    pub(crate) paper_settings: bool,
+    /// Step cap of each example during evolution, in steps per tree node (default 20, i.e.
+    /// 20·|N|); 0 = the paper's M = |N|²·|R|².
+    #[arg(long)]
+    pub(crate) evolution_cap: Option<u64>,
+    /// p_a, p_c, p_m: shares of the next generation made by reproduction, crossover and
+    /// mutation (default 0.1, 0.8, 0.1; they must sum to 1).
+    #[arg(long)]
+    pub(crate) p_reproduction: Option<f64>,
+    #[arg(long)]
+    pub(crate) p_crossover: Option<f64>,
+    #[arg(long)]
+    pub(crate) p_mutation: Option<f64>,
+    /// Depth bounds of every program (default 1 and 50) and of the initial ones (default 2).
+    #[arg(long)]
+    pub(crate) min_depth: Option<usize>,
+    #[arg(long)]
+    pub(crate) max_depth: Option<usize>,
+    #[arg(long)]
+    pub(crate) init_depth: Option<usize>,
+}
+
+impl GpParamArgs {
+    /// The flags as registry parameters of the `gp` planner (`-p key=value`).
+    pub(crate) fn pairs(&self) -> Vec<(String, String)> {
+        let mut out = Vec::new();
+        let mut put = |k: &str, v: Option<String>| {
+            if let Some(v) = v {
+                out.push((k.to_string(), v));
+            }
+        };
+        put("paper_settings", self.paper_settings.then(|| "true".into()));
+        put("population", self.population.map(|v| v.to_string()));
+        put("generations", self.generations.map(|v| v.to_string()));
+        put("runs", self.runs.map(|v| v.to_string()));
+        put("evolution_cap", self.evolution_cap.map(|v| v.to_string()));
+        put("p_reproduction", self.p_reproduction.map(|v| v.to_string()));
+        put("p_crossover", self.p_crossover.map(|v| v.to_string()));
+        put("p_mutation", self.p_mutation.map(|v| v.to_string()));
+        put("min_depth", self.min_depth.map(|v| v.to_string()));
+        put("max_depth", self.max_depth.map(|v| v.to_string()));
+        put("init_depth", self.init_depth.map(|v| v.to_string()));
+        out
+    }
+
+    /// The flags applied over `default` (ignored with `--paper-settings`, which starts from the
+    /// paper's values).
+    pub(crate) fn params_over(
+        &self,
+        default: GpParams,
+        allow_following: bool,
+    ) -> Result<GpParams, Fail> {
+        let mut p = if self.paper_settings {
+            GpParams::paper()
+        } else {
+            default
+        };
+        p.population = self.population.unwrap_or(p.population);
+        p.generations = self.generations.unwrap_or(p.generations);
+        p.runs = self.runs.unwrap_or(p.runs);
+        if let Some(k) = self.evolution_cap {
+            p.cap_factor = (k > 0).then_some(k);
+        }
+        p.p_reproduction = self.p_reproduction.unwrap_or(p.p_reproduction);
+        p.p_crossover = self.p_crossover.unwrap_or(p.p_crossover);
+        p.p_mutation = self.p_mutation.unwrap_or(p.p_mutation);
+        p.min_depth = self.min_depth.unwrap_or(p.min_depth);
+        p.max_depth = self.max_depth.unwrap_or(p.max_depth);
+        p.init_depth = self.init_depth.unwrap_or(p.init_depth);
+        p.sim.allow_following = allow_following;
+        p.check()?;
+        Ok(p)
+    }
+}
+
+pub(crate) fn run(cmd: Trees) -> Result<u8, Fail> {
+    match cmd {
+        Trees::Gen {
+            seed,
+            depth,
+            branching,
+            robots,
+            leaf_multiplier,
+            max_nodes,
+            out,
+        } => {
+            let size = GenSize {
+                depth,
+                branching,
+                max_nodes,
+            };
+            cmd_gen(seed, size, robots, leaf_multiplier, &out)
+        }
+        Trees::Solve { .. } => solve_alias(cmd),
+        Trees::Run {
+            program,
+            instance,
+            time_limit,
+            no_following,
+            out,
+        } => crate::verbs::solve(&SolveRequest {
+            inputs: tree_inputs(instance, no_following),
+            planner: mrpp_trees::gp::NAME.into(),
+            params: vec![("program".into(), program.to_string_lossy().into_owned())],
+            seed: 0,
+            time_limit,
+            out,
+            format: Format::Json,
+            save_program: None,
+            command: "trees run",
+        }),
+        Trees::Validate {
+            instance,
+            plan,
+            no_following,
+        } => crate::verbs::validate(&tree_inputs(instance, no_following), &plan),
+    }
+}
+
+fn tree_inputs(instance: PathBuf, no_following: bool) -> Inputs {
+    Inputs {
+        instance: Some(instance),
+        no_following,
+        ..Inputs::default()
+    }
+}
+
+/// `trees solve`: the generic solve, with the old flags turned into registry parameters.
+fn solve_alias(cmd: Trees) -> Result<u8, Fail> {
+    let Trees::Solve {
+        instance,
+        planner,
+        program,
+        seed,
+        time_limit,
+        no_following,
+        gp,
+        save_program,
+        params,
+        out,
+    } = cmd
+    else {
+        unreachable!("called for trees solve only")
+    };
+    let mut pairs = gp.pairs();
+    if let Some(p) = &program {
+        pairs.push(("program".into(), p.to_string_lossy().into_owned()));
+    }
+    let name = match planner {
+        TreePlanner::Psw if !pairs.is_empty() || save_program.is_some() => {
+            return Err(Fail("--program, --population, --generations, --runs, --paper-settings and --save-program are for --planner gp".into()));
+        }
+        TreePlanner::Psw => mrpp_trees::psw::NAME,
+        TreePlanner::Gp => mrpp_trees::gp::NAME,
+    };
+    if program.is_some() && (pairs.len() > 1 || save_program.is_some()) {
+        return Err(Fail("--program runs a saved program: --population, --generations, --runs, --paper-settings and --save-program only apply when evolving one".into()));
+    }
+    for p in &params {
+        pairs.push(mrpp_core::registry::parse_key_value(p)?);
+    }
+    crate::verbs::solve(&SolveRequest {
+        inputs: tree_inputs(instance, no_following),
+        planner: name.into(),
+        params: pairs,
+        seed,
+        time_limit,
+        out,
+        format: Format::Json,
+        save_program,
+        command: "trees solve",
+    })
+}
+
+/// The tree-shape parameters of `trees gen`.
+struct GenSize {
+    depth: u32,
+    branching: u32,
+    max_nodes: usize,
+}
+
+fn cmd_gen(
+    seed: u64,
+    size: GenSize,
+    robots: Option<usize>,
+    leaf_multiplier: Option<f64>,
+    out: &Path,
+) -> Result<u8, Fail> {
+    let GenSize {
+        depth,
+        branching,
+        max_nodes,
+    } = size;
+    if depth == 0 || depth > MAX_DEPTH {
+        return Err(Fail(format!(
+            "--depth must be between 1 and {MAX_DEPTH}, got {depth}"
+        )));
+    }
+    // With b < 3 a node has at most one child, so no tree has the 2 leaves a problem needs.
+    if !(3..=MAX_BRANCHING).contains(&branching) {
+        return Err(Fail(format!(
+            "--branching must be between 3 and {MAX_BRANCHING} (a node gets 0..b-1 children, so \
+             b < 3 only makes paths), got {branching}"
+        )));
+    }
+    let count = robot_count(robots, leaf_multiplier)?;
+    let spec = ProblemSpec {
+        branching,
+        ..ProblemSpec::paper(depth, count)
+    };
+    let tree = generate_problem(&spec, seed)?;
+    let n = tree.num_nodes();
+    if n > max_nodes {
+        return Err(Fail(format!(
+            "the tree for seed {seed} (depth {depth}, branching {branching}) has {n} nodes, more \
+             than --max-nodes {max_nodes}; lower --depth or --branching, or raise --max-nodes"
+        )));
+    }
+    // The generator caps an explicit count at |N| - 2; asking for more is an error here.
+    if let Some(k) = robots.filter(|&k| k + 2 > n) {
+        return Err(Fail(format!(
+            "--robots {k} is more than this tree allows: it has {n} nodes and at least 2 must \
+             stay free (at most {})",
+            n - 2
+        )));
+    }
+    write_atomic(out, &tree.to_json())?;
+    let branches = (0..n as u32).filter(|&v| tree.graph.degree(v) >= 3).count();
+    println!(
+        "mrpp {} | trees gen | seed {seed} | depth {depth} | branching {branching} | nodes {n} | \
+         leaves {} | branch nodes {branches} | robots {} | written to {}",
+        env!("CARGO_PKG_VERSION"),
+        tree.num_leaves(),
+        tree.num_robots(),
+        out.display()
+    );
+    Ok(0)
+}
+
+/// Checks the parameters before generating, so that nothing is written for absurd ones.
+fn robot_count(robots: Option<usize>, leaf_multiplier: Option<f64>) -> Result<RobotCount, Fail> {
+    match (robots, leaf_multiplier) {
+        (Some(_), Some(_)) => Err(Fail(
+            "give either --robots or --leaf-multiplier, not both".into(),
+        )),
+        (None, None) => Err(Fail(
+            "give the robot count: --robots N or --leaf-multiplier M".into(),
+        )),
+        (Some(0), None) => Err(Fail("--robots must be at least 1".into())),
+        (Some(n), None) => Ok(RobotCount::Exactly(n)),
+        (None, Some(m)) if !(m.is_finite() && m > 0.0) => Err(Fail(format!(
+            "--leaf-multiplier must be a positive number, got {m}"
+        ))),
+        (None, Some(m)) => Ok(RobotCount::PerLeaf(m)),
+    }
+}

@@ -1,0 +1,293 @@
+//! Reservation table and space-time A* (Silver 2005), shared by CA*, HCA*, WHCA* and H*'s repair.
+//!
+//! A search state is `(vertex, t)`. Moves and waits cost 1, except waiting on the goal in windowed
+//! mode, which is free (Silver's convention, so an agent that has arrived prefers to stay). A
+//! successor is legal when its vertex is not reserved at `t + 1` and the reverse edge is not
+//! reserved at the same step (no swaps). Following a reserved agent is allowed, as in the validator.
+
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
+
+use rustc_hash::FxHashMap;
+
+use crate::contract::Deadline;
+use crate::mapf::graph::{Graph, VertexId};
+
+const NEVER: u32 = u32::MAX;
+
+/// Vertex and edge reservations over time, plus vertices held forever by parked agents.
+///
+/// Stored per vertex as a short list of `(t, from)`: an agent is on the vertex at `t`, having come
+/// from `from` at `t - 1` (itself for a wait or a start). A vertex is reserved at few time steps,
+/// so a scan of its list is cheaper than hashing `(vertex, t)` pairs.
+#[derive(Debug, Clone)]
+pub struct Reservations {
+    at: Vec<Vec<(u32, VertexId)>>,
+    /// `parked[v] = t`: some agent sits on `v` for every step `>= t`.
+    parked: Vec<u32>,
+    /// Latest time at which `v` is reserved (`NEVER` when never).
+    last: Vec<u32>,
+    horizon: u32,
+}
+
+impl Reservations {
+    pub fn new(num_vertices: usize) -> Self {
+        Reservations {
+            at: vec![Vec::new(); num_vertices],
+            parked: vec![NEVER; num_vertices],
+            last: vec![NEVER; num_vertices],
+            horizon: 0,
+        }
+    }
+
+    /// Reserves `path` starting at time `t0`. With `park`, its last vertex stays reserved forever.
+    pub fn reserve_path(&mut self, path: &[VertexId], t0: u32, park: bool) {
+        for (k, &v) in path.iter().enumerate() {
+            let t = t0 + k as u32;
+            let from = if k > 0 { path[k - 1] } else { v };
+            self.at[v as usize].push((t, from));
+            let last = &mut self.last[v as usize];
+            *last = if *last == NEVER { t } else { (*last).max(t) };
+            self.horizon = self.horizon.max(t);
+        }
+        if park && let Some(&v) = path.last() {
+            let t = t0 + path.len() as u32 - 1;
+            self.parked[v as usize] = self.parked[v as usize].min(t);
+        }
+    }
+
+    /// Whether `v` is free at time `t`.
+    #[inline]
+    pub fn vertex_free(&self, v: VertexId, t: u32) -> bool {
+        self.parked[v as usize] > t && !self.at[v as usize].iter().any(|&(tt, _)| tt == t)
+    }
+
+    /// Whether an agent may move (or wait, when `u == v`) from `u` at `t - 1` to `v` at `t`:
+    /// `v` is free at `t` and no agent moves `v -> u` at the same step (a swap).
+    #[inline]
+    pub fn move_free(&self, u: VertexId, v: VertexId, t: u32) -> bool {
+        self.vertex_free(v, t)
+            && (u == v
+                || !self.at[u as usize]
+                    .iter()
+                    .any(|&(tt, from)| tt == t && from == v))
+    }
+
+    /// Whether `v` is free at every step `>= t`.
+    pub fn free_from(&self, v: VertexId, t: u32) -> bool {
+        self.parked[v as usize] == NEVER
+            && (self.last[v as usize] == NEVER || self.last[v as usize] < t)
+    }
+
+    /// Latest reserved time step.
+    pub fn horizon(&self) -> u32 {
+        self.horizon
+    }
+}
+
+/// One space-time query.
+pub struct Query<'a> {
+    pub graph: &'a Graph,
+    pub start: VertexId,
+    pub goal: VertexId,
+    pub start_time: u32,
+    /// Admissible estimate of the remaining cost to the goal.
+    pub h: &'a dyn Fn(VertexId) -> u32,
+    /// Full search: only paths arriving by this time (states that cannot are pruned with `h`).
+    /// Windowed search: ignored.
+    pub max_time: u32,
+    /// `Some(w)`: depth-limited search; states at `start_time + w` are terminal with cost `g + h`.
+    pub window: Option<u32>,
+    pub deadline: Deadline,
+}
+
+/// Outcome of a space-time search.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Search {
+    /// The path from `start` at `start_time` (index 0) onward.
+    Found(Vec<VertexId>),
+    NotFound,
+    TimedOut,
+}
+
+/// Space-time A*. Full mode: reach the goal at a time from which it is free forever (minimising the
+/// arrival time). Windowed mode: a best path of `w` steps whose end is ranked by `g + h`.
+/// Ties: lower f, then higher g, then insertion order (deterministic).
+pub fn space_time_astar(q: &Query, res: &Reservations) -> Search {
+    if !res.vertex_free(q.start, q.start_time) {
+        return Search::NotFound;
+    }
+    let h = |v| (q.h)(v);
+    if h(q.start) == u32::MAX {
+        return Search::NotFound;
+    }
+    // Node arena: (vertex, t, g, parent, terminal).
+    struct Node {
+        v: VertexId,
+        t: u32,
+        parent: u32,
+    }
+    let mut nodes: Vec<Node> = Vec::new();
+    // (f, g, insertion order, node index, terminal): max-heap on lower f, then higher g.
+    type Entry = (Reverse<u32>, u32, Reverse<u32>, u32, bool);
+    let mut open: BinaryHeap<Entry> = BinaryHeap::new();
+    // Per state: best g so far, and whether it has been expanded (closed).
+    let mut seen: FxHashMap<(VertexId, u32), (u32, bool)> = FxHashMap::default();
+    let mut counter = 0u32;
+    nodes.push(Node {
+        v: q.start,
+        t: q.start_time,
+        parent: u32::MAX,
+    });
+    open.push((Reverse(h(q.start)), 0, Reverse(counter), 0, false));
+    seen.insert((q.start, q.start_time), (0, false));
+    let end_time = q.window.map(|w| q.start_time + w);
+    let mut expansions = 0u64;
+    while let Some((_, g, _, idx, terminal)) = open.pop() {
+        let (v, t) = (nodes[idx as usize].v, nodes[idx as usize].t);
+        if terminal || (end_time.is_none() && v == q.goal && res.free_from(v, t)) {
+            let mut path = Vec::with_capacity((t - q.start_time + 1) as usize);
+            let mut i = idx;
+            while i != u32::MAX {
+                path.push(nodes[i as usize].v);
+                i = nodes[i as usize].parent;
+            }
+            path.reverse();
+            return Search::Found(path);
+        }
+        match seen.get_mut(&(v, t)) {
+            Some((_, closed @ false)) => *closed = true,
+            _ => continue,
+        }
+        expansions += 1;
+        if expansions.is_multiple_of(1024) && q.deadline.expired() {
+            return Search::TimedOut;
+        }
+        if let Some(end) = end_time {
+            if t == end {
+                // Terminal: rank by g + h; re-queued so that cheaper terminals win.
+                counter += 1;
+                let hv = h(v);
+                open.push((
+                    Reverse(g.saturating_add(hv)),
+                    g,
+                    Reverse(counter),
+                    idx,
+                    true,
+                ));
+                continue;
+            }
+        } else if t >= q.max_time {
+            continue;
+        }
+        let nt = t + 1;
+        let waits_free = end_time.is_some() && v == q.goal;
+        for &w in std::iter::once(&v).chain(q.graph.neighbors(v)) {
+            if !res.move_free(v, w, nt) {
+                continue;
+            }
+            let hw = h(w);
+            // Unreachable, or (full mode) cannot arrive by `max_time` even unobstructed.
+            if hw == u32::MAX || (end_time.is_none() && nt.saturating_add(hw) > q.max_time) {
+                continue;
+            }
+            let ng = g + if w == v && waits_free { 0 } else { 1 };
+            let e = seen.entry((w, nt)).or_insert((u32::MAX, false));
+            if e.1 || ng >= e.0 {
+                continue;
+            }
+            e.0 = ng;
+            nodes.push(Node {
+                v: w,
+                t: nt,
+                parent: idx,
+            });
+            counter += 1;
+            open.push((
+                Reverse(ng + hw),
+                ng,
+                Reverse(counter),
+                nodes.len() as u32 - 1,
+                false,
+            ));
+        }
+    }
+    Search::NotFound
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::mapf::search::distance::bfs_distances;
+
+    fn query<'a>(
+        g: &'a Graph,
+        start: VertexId,
+        goal: VertexId,
+        h: &'a dyn Fn(VertexId) -> u32,
+    ) -> Query<'a> {
+        Query {
+            graph: g,
+            start,
+            goal,
+            start_time: 0,
+            h,
+            max_time: 50,
+            window: None,
+            deadline: Deadline::none(),
+        }
+    }
+
+    #[test]
+    fn waits_for_a_reserved_centre() {
+        // Plus: centre 0, W=1 E=2 N=3 S=4. Agent a W->E reserved; b S->N must wait one step.
+        let g = Graph::from_edges(5, &[(0, 1), (0, 2), (0, 3), (0, 4)]);
+        let mut res = Reservations::new(5);
+        res.reserve_path(&[1, 0, 2], 0, true);
+        let d = bfs_distances(&g, 3);
+        let h = |v: VertexId| d[v as usize];
+        assert_eq!(
+            space_time_astar(&query(&g, 4, 3, &h), &res),
+            Search::Found(vec![4, 4, 0, 3])
+        );
+    }
+
+    #[test]
+    fn swap_is_refused_and_parked_goal_blocks() {
+        // Path 0-1-2. a moves 2->1->0 and parks; b at 0 wants 2: it can never get past.
+        let g = Graph::from_edges(3, &[(0, 1), (1, 2)]);
+        let mut res = Reservations::new(3);
+        res.reserve_path(&[2, 1, 0], 0, true);
+        let d = bfs_distances(&g, 2);
+        let h = |v: VertexId| d[v as usize];
+        assert_eq!(
+            space_time_astar(&query(&g, 0, 2, &h), &res),
+            Search::NotFound
+        );
+    }
+
+    #[test]
+    fn goal_must_stay_free() {
+        // Path 0-1-2; reserved agent passes 1 at t=3; b from 0 to goal 1 must arrive after t=3.
+        let g = Graph::from_edges(3, &[(0, 1), (1, 2)]);
+        let mut res = Reservations::new(3);
+        res.reserve_path(&[2, 2, 2, 1, 2], 0, false);
+        let d = bfs_distances(&g, 1);
+        let h = |v: VertexId| d[v as usize];
+        match space_time_astar(&query(&g, 0, 1, &h), &res) {
+            Search::Found(p) => assert_eq!(p.len(), 5),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn windowed_search_stops_at_window() {
+        let g = Graph::from_edges(6, &[(0, 1), (1, 2), (2, 3), (3, 4), (4, 5)]);
+        let res = Reservations::new(6);
+        let d = bfs_distances(&g, 5);
+        let h = |v: VertexId| d[v as usize];
+        let mut q = query(&g, 0, 5, &h);
+        q.window = Some(2);
+        assert_eq!(space_time_astar(&q, &res), Search::Found(vec![0, 1, 2]));
+    }
+}

@@ -1,0 +1,250 @@
+//! The corridor-compressed graph of the H* paper (§IV-A).
+//!
+//! Every maximal chain of cells with exactly two free neighbours becomes one node that keeps its
+//! cells in order; every other cell (dead end, junction) is a node of its own. H* marks whole nodes
+//! as occupied when a robot stands on any of their cells, so a robot never plans into a corridor
+//! another robot is in. [`Corridors::route_length`] is A* on this graph: it moves from a node's end
+//! straight to its other end (or to the goal inside it) in one weighted step.
+
+use pathfinding::directed::astar::astar;
+
+use mrpp_core::mapf::graph::{Graph, VertexId};
+
+/// Node id in the compressed graph.
+pub type NodeId = u32;
+
+/// Nodes of the compressed graph and where each cell sits in them.
+#[derive(Debug, Clone)]
+pub struct Corridors {
+    node_of: Vec<NodeId>,
+    index_in_node: Vec<u32>,
+    cells: Vec<Vec<VertexId>>,
+}
+
+impl Corridors {
+    /// Compresses `g`: chains of degree-2 vertices are merged in order. A closed ring of degree-2
+    /// vertices (no junction at all) is cut at its lowest vertex id.
+    pub fn build(g: &Graph) -> Self {
+        let n = g.num_vertices();
+        let mut node_of = vec![u32::MAX; n];
+        let mut index_in_node = vec![0u32; n];
+        let mut cells: Vec<Vec<VertexId>> = Vec::new();
+        let is_corridor = |v: VertexId| g.degree(v) == 2;
+        for v in 0..n as VertexId {
+            if node_of[v as usize] != u32::MAX {
+                continue;
+            }
+            let id = cells.len() as NodeId;
+            if !is_corridor(v) {
+                node_of[v as usize] = id;
+                cells.push(vec![v]);
+                continue;
+            }
+            // Walk both ways from v while the cells are corridor cells not yet taken.
+            node_of[v as usize] = id;
+            let mut halves: [Vec<VertexId>; 2] = [Vec::new(), Vec::new()];
+            for (side, half) in halves.iter_mut().enumerate() {
+                let mut prev = v;
+                let mut cur = g.neighbors(v)[side];
+                while is_corridor(cur) && node_of[cur as usize] == u32::MAX {
+                    node_of[cur as usize] = id;
+                    half.push(cur);
+                    let next = g
+                        .neighbors(cur)
+                        .iter()
+                        .copied()
+                        .find(|&w| w != prev)
+                        .unwrap_or(prev);
+                    prev = cur;
+                    cur = next;
+                }
+            }
+            let [left, right] = halves;
+            let mut chain: Vec<VertexId> = left.into_iter().rev().collect();
+            chain.push(v);
+            chain.extend(right);
+            cells.push(chain);
+        }
+        for chain in &cells {
+            for (i, &c) in chain.iter().enumerate() {
+                index_in_node[c as usize] = i as u32;
+            }
+        }
+        Corridors {
+            node_of,
+            index_in_node,
+            cells,
+        }
+    }
+
+    pub fn num_nodes(&self) -> usize {
+        self.cells.len()
+    }
+    #[inline]
+    pub fn node_of(&self, v: VertexId) -> NodeId {
+        self.node_of[v as usize]
+    }
+    /// The cells of a node, in corridor order.
+    pub fn cells(&self, node: NodeId) -> &[VertexId] {
+        &self.cells[node as usize]
+    }
+
+    /// Length of a shortest route from `from` to `goal` that enters no node for which
+    /// `blocked(node)` holds and never steps on `avoid` (the robot's own cell, so routes cannot
+    /// circle back through it). `None` when there is none. A* over node ends with the Manhattan
+    /// heuristic (edge costs are cell counts, so it stays admissible and consistent).
+    pub fn route_length(
+        &self,
+        g: &Graph,
+        from: VertexId,
+        goal: VertexId,
+        avoid: VertexId,
+        blocked: &dyn Fn(NodeId) -> bool,
+    ) -> Option<u32> {
+        if from == goal {
+            return Some(0);
+        }
+        if from == avoid || blocked(self.node_of(from)) || blocked(self.node_of(goal)) {
+            return None;
+        }
+        let successors = |&u: &VertexId| -> Vec<(VertexId, u32)> {
+            let mut out = Vec::with_capacity(4);
+            let nu = self.node_of(u);
+            for &w in g.neighbors(u) {
+                if w == avoid {
+                    continue;
+                }
+                let nw = self.node_of(w);
+                if nw == nu {
+                    // Moving along our own corridor (only when starting inside it).
+                    if let Some(s) = self.walk(u, w, goal, avoid) {
+                        out.push(s);
+                    }
+                } else if !blocked(nw)
+                    && let Some(s) = self.walk(u, w, goal, avoid)
+                {
+                    out.push(s);
+                }
+            }
+            out
+        };
+        astar(&from, successors, |&v| g.manhattan(v, goal), |&v| v == goal).map(|(_, cost)| cost)
+    }
+
+    /// Steps from `u` into `w` and on along `w`'s corridor to its far end, stopping early at the
+    /// goal. Returns the cell reached and the number of steps, or `None` if `avoid` is in the way.
+    fn walk(
+        &self,
+        u: VertexId,
+        w: VertexId,
+        goal: VertexId,
+        avoid: VertexId,
+    ) -> Option<(VertexId, u32)> {
+        let node = self.node_of(w);
+        let chain = &self.cells[node as usize];
+        if chain.len() == 1 || w == goal {
+            return Some((w, 1));
+        }
+        let i = self.index_in_node[w as usize] as usize;
+        // Direction: away from u (u is either outside the node or the previous cell of the chain).
+        let forward = if self.node_of(u) == node {
+            (self.index_in_node[u as usize] as usize) < i
+        } else {
+            i == 0
+        };
+        let mut steps = 1;
+        let mut k = i;
+        loop {
+            let next = if forward {
+                if k + 1 >= chain.len() {
+                    break;
+                }
+                k + 1
+            } else {
+                if k == 0 {
+                    break;
+                }
+                k - 1
+            };
+            let c = chain[next];
+            if c == avoid {
+                // The corridor is cut by the robot's own cell: only its part up to here is usable.
+                return (chain[k] != u).then_some((chain[k], steps));
+            }
+            k = next;
+            steps += 1;
+            if c == goal {
+                return Some((c, steps));
+            }
+        }
+        Some((chain[k], steps))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::map::GridMap;
+    use std::path::Path;
+
+    fn map(text: &str) -> GridMap {
+        GridMap::parse(text, Path::new("t.txt")).unwrap().0
+    }
+
+    #[test]
+    fn corridor_is_one_node_in_order() {
+        // A 1-wide corridor between two 2x2 rooms.
+        let m = map("########\n#  ##  #\n#      #\n#  ##  #\n########");
+        let c = Corridors::build(m.graph());
+        let a = m.vertex_at(3, 2).unwrap();
+        let b = m.vertex_at(4, 2).unwrap();
+        assert_eq!(c.node_of(a), c.node_of(b));
+        assert_eq!(c.cells(c.node_of(a)).len(), 2);
+        let j = m.vertex_at(2, 2).unwrap();
+        assert_ne!(c.node_of(j), c.node_of(a));
+        // Nodes partition the cells, and consecutive cells of a node are adjacent.
+        let total: usize = (0..c.num_nodes() as NodeId).map(|n| c.cells(n).len()).sum();
+        assert_eq!(total, m.graph().num_vertices());
+        for n in 0..c.num_nodes() as NodeId {
+            for w in c.cells(n).windows(2) {
+                assert!(m.graph().has_edge(w[0], w[1]));
+            }
+            assert!(c.cells(n).iter().all(|&v| c.node_of(v) == n));
+        }
+    }
+
+    #[test]
+    fn route_length_matches_bfs_and_respects_blocks() {
+        let m = map("########\n#  ##  #\n#      #\n#  ##  #\n########");
+        let g = m.graph();
+        let c = Corridors::build(g);
+        let from = m.vertex_at(1, 1).unwrap();
+        let goal = m.vertex_at(6, 3).unwrap();
+        let d = mrpp_core::mapf::search::distance::bfs_distances(g, goal);
+        let none = |_: NodeId| false;
+        assert_eq!(
+            c.route_length(g, from, goal, u32::MAX, &none),
+            Some(d[from as usize])
+        );
+        // Every cell to every goal equals BFS when nothing is blocked.
+        for s in 0..g.num_vertices() as VertexId {
+            assert_eq!(
+                c.route_length(g, s, goal, u32::MAX, &none),
+                Some(d[s as usize]),
+                "from {s}"
+            );
+        }
+        let corridor = c.node_of(m.vertex_at(3, 2).unwrap());
+        let blocked = |n: NodeId| n == corridor;
+        assert_eq!(c.route_length(g, from, goal, u32::MAX, &blocked), None);
+        // Starting inside the corridor with the cell behind us avoided.
+        let inside = m.vertex_at(4, 2).unwrap();
+        let behind = m.vertex_at(3, 2).unwrap();
+        assert_eq!(
+            c.route_length(g, inside, goal, behind, &none),
+            Some(d[inside as usize])
+        );
+        let left_goal = m.vertex_at(1, 1).unwrap();
+        assert_eq!(c.route_length(g, inside, left_goal, behind, &none), None);
+    }
+}

@@ -1,0 +1,790 @@
+//! H*: hybrid greedy planner of Kopacz, García González, Chira and Villar (IEEE Latin America
+//! Transactions), `shared/papers/hstar-hybrid-greedy-grid.md` §IV.
+//!
+//! The paper's steps, in order, each a function named after it:
+//! 1. [`greedy_path_search`] (§IV-A, Algorithm 1 applied to all robots step by step): at every time
+//!    step each robot not on its goal tries each free neighbour `n_k`, completes `[c_r, n_k]` to its
+//!    target with A* on the corridor-compressed graph ([`Corridors`]) avoiding every node another
+//!    robot currently occupies and its own cell, and moves to the `n_k` of the shortest route.
+//! 2. [`loop_elimination`] (Algorithm 2): repeated cells cut out of each path.
+//! 3. [`collision_elimination`] (Algorithms 3–4): while a conflict exists, the first one is resolved
+//!    by inserting `i = 1, 2, ...` halts at position `t - i` of the first robot, else of the second.
+//!
+//! Where the paper is silent, the choices (all options of [`HStar`]):
+//! - Neighbour order and ties: neighbours are tried up, right, down, left and the first strictly
+//!   shortest wins (Algorithm 1's `shorter than`), so H* is deterministic as the paper's integer
+//!   Table II values suggest; [`TieBreak::Random`] picks uniformly among the shortest (seeded).
+//! - Update order: [`GreedyUpdate::Sequential`] (default) moves robots one after the other in id
+//!   order, each seeing the positions the earlier robots just took; `Simultaneous` lets all robots
+//!   decide on the positions at `t` (the paths may then hold conflicts for step 3 to resolve).
+//! - A robot on its goal stays there; a robot with no usable neighbour (every route blocked) waits.
+//! - The greedy stage stops when every robot is on its goal, when a joint configuration repeats
+//!   (the stage is deterministic, so it would cycle for ever), or after `max_greedy_steps`.
+//! - Algorithm 4 may find no number of halts that clears a conflict; Algorithm 3 would then loop
+//!   for ever. We stop at the first such conflict, after `max_resolution_rounds` resolutions
+//!   (default 100 + 10 per robot), or once halts have stretched the longest path past
+//!   `max_stretch` times its length before this step (default 3): each resolution may add halts
+//!   that cause new conflicts, and without these caps we saw makespans above 10 000 on a 63x31 map.
+//!
+//! [`Variant::Paper`] runs only those steps and reports "not solved" when a robot is short of its
+//! goal or a conflict is left. The authors' public code ends that way on most of the paper's own
+//! instances, while the paper reports collision-free plans for all of them. [`Variant::Repaired`]
+//! (default) finishes the job with [`reservation_repair`], our documented extension: the robots
+//! left short of their goals or in conflict are re-planned with space-time A* against a reservation
+//! table holding every other robot's H* path. A robot that finds no path is planned first in the
+//! next round, together with the robots in its way, which lose their H* paths too: those parked on
+//! its shortest route, else those whose paths cross that route, else everyone (prioritised
+//! planning with restarts, a bounded number of rounds). It then runs [`local_replanning`], a
+//! stronger form of the paper's local search: single robots, then pairs of robots that cross, are
+//! re-planned against all the others and keep their new paths only when the sum of costs drops
+//! (`replanning_passes`, default 4; 0 turns it off).
+
+use rand::SeedableRng;
+use rand::seq::IndexedRandom;
+use rand_chacha::ChaCha8Rng;
+use rustc_hash::FxHashSet;
+
+use crate::corridors::{Corridors, NodeId};
+use mrpp_core::contract::{Ctx, Deadline, Planner, Unsolved};
+use mrpp_core::mapf::graph::{Graph, VertexId};
+use mrpp_core::mapf::instance::Instance;
+use mrpp_core::mapf::plan::{Plan, first_conflict, position};
+use mrpp_core::mapf::search::distance::{UNREACHABLE, descend, goal_distance_tables};
+use mrpp_core::mapf::search::spacetime::{Query, Reservations, Search, space_time_astar};
+use mrpp_core::{MapfProblem, Param, PlannerEntry};
+
+/// Registry name of H*.
+pub const NAME: &str = "hstar";
+
+/// H* in the planner registry.
+pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
+    name: NAME,
+    about: "H*: greedy path search, loop elimination, collision resolution, then mrpp's repair (Kopacz et al., IEEE Latin America Transactions)",
+    params: &[
+        Param {
+            name: "variant",
+            default: "repaired",
+            doc: "repaired = the paper's steps, then reservation repair and local re-planning; paper = the paper's steps only",
+        },
+        Param {
+            name: "replanning_passes",
+            default: "4",
+            doc: "passes of local re-planning after the repair (repaired variant; 0 = off)",
+        },
+    ],
+    build: |p| {
+        let variant =
+            [Variant::Repaired, Variant::Paper][p.choice("variant", &["repaired", "paper"])?];
+        Ok(Box::new(HStar {
+            variant,
+            replanning_passes: p.get_in("replanning_passes", 0..=1000)?,
+            ..HStar::default()
+        }))
+    },
+};
+
+/// Which steps run.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Variant {
+    /// Only the paper's steps; "not solved" when they fall short.
+    Paper,
+    /// The paper's steps, then [`reservation_repair`] for whatever they leave unresolved.
+    Repaired,
+}
+
+/// How the greedy stage moves robots within one time step.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GreedyUpdate {
+    Sequential,
+    Simultaneous,
+}
+
+/// How Algorithm 1 breaks ties between equally short routes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TieBreak {
+    /// The first neighbour in the order up, right, down, left.
+    First,
+    /// A uniformly random one among the shortest (seeded by the run's seed).
+    Random,
+}
+
+/// When another robot on a robot's *target* node blocks its route.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TargetOccupancy {
+    /// Whenever any robot stands there (the paper's rule read literally). When every target is
+    /// another robot's start, as in Scenario 2, no robot can move at all.
+    Blocks,
+    /// Only when the robot there has arrived on its own goal (it will not leave); a robot merely
+    /// passing or starting there is expected to move on.
+    BlocksWhenParked,
+}
+
+/// The H* planner and its options.
+#[derive(Debug, Clone)]
+pub struct HStar {
+    pub variant: Variant,
+    pub target_occupancy: TargetOccupancy,
+    pub update: GreedyUpdate,
+    pub tie_break: TieBreak,
+    /// Cap on greedy time steps; `None` = 4·|V| + 100.
+    pub max_greedy_steps: Option<usize>,
+    /// Cap on the number of conflicts Algorithm 3 resolves; `None` = 100 + 10 per robot.
+    pub max_resolution_rounds: Option<usize>,
+    /// Algorithm 3 stops once the longest path exceeds this factor times its initial length.
+    pub max_stretch: usize,
+    /// Passes of [`local_replanning`] after the repair (repaired variant; 0 = off).
+    pub replanning_passes: usize,
+    /// Restarts of the repair step (each puts a failing robot first).
+    pub max_repair_rounds: usize,
+}
+
+impl Default for HStar {
+    fn default() -> Self {
+        HStar {
+            variant: Variant::Repaired,
+            target_occupancy: TargetOccupancy::BlocksWhenParked,
+            update: GreedyUpdate::Sequential,
+            tie_break: TieBreak::First,
+            max_greedy_steps: None,
+            max_resolution_rounds: None,
+            max_stretch: 3,
+            max_repair_rounds: 16,
+            replanning_passes: 4,
+        }
+    }
+}
+
+impl HStar {
+    pub fn paper() -> Self {
+        HStar {
+            variant: Variant::Paper,
+            ..Self::default()
+        }
+    }
+}
+
+/// How the greedy stage ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GreedyEnd {
+    AllOnGoal,
+    /// A joint configuration repeated: the deterministic stage would cycle.
+    Cycle,
+    StepCap,
+}
+
+/// Step 1: Algorithm 1 applied to all robots, step by step. Returns one path per robot (possibly
+/// short of its goal) and how the stage ended.
+pub fn greedy_path_search(
+    g: &Graph,
+    corridors: &Corridors,
+    inst: &Instance,
+    cfg: &HStar,
+    rng: &mut ChaCha8Rng,
+    deadline: Deadline,
+) -> Result<(Vec<Vec<VertexId>>, GreedyEnd), Unsolved> {
+    let n = inst.num_agents();
+    let mut pos = inst.starts.clone();
+    let mut paths: Vec<Vec<VertexId>> = pos.iter().map(|&s| vec![s]).collect();
+    // How many robots stand on each compressed node.
+    let mut occupancy = vec![0u32; corridors.num_nodes()];
+    for &p in &pos {
+        occupancy[corridors.node_of(p) as usize] += 1;
+    }
+    // Robots standing on their own goal, per node (they never move again in this stage).
+    let mut parked = vec![0u32; corridors.num_nodes()];
+    for (p, g) in pos.iter().zip(&inst.goals) {
+        if p == g {
+            parked[corridors.node_of(*p) as usize] += 1;
+        }
+    }
+    let cap = cfg.max_greedy_steps.unwrap_or(4 * g.num_vertices() + 100);
+    let mut seen: FxHashSet<Vec<VertexId>> = FxHashSet::default();
+    seen.insert(pos.clone());
+    let mut choices: Vec<VertexId> = Vec::with_capacity(4);
+    for _step in 0..cap {
+        if pos.iter().zip(&inst.goals).all(|(p, g)| p == g) {
+            return Ok((paths, GreedyEnd::AllOnGoal));
+        }
+        if deadline.expired() {
+            return Err(Unsolved::TimeLimit);
+        }
+        let decided_on = occupancy.clone();
+        let mut next = pos.clone();
+        for r in 0..n {
+            let cur = pos[r];
+            let goal = inst.goals[r];
+            if cur == goal {
+                continue;
+            }
+            let occ: &[u32] = match cfg.update {
+                GreedyUpdate::Sequential => &occupancy,
+                GreedyUpdate::Simultaneous => &decided_on,
+            };
+            let own = corridors.node_of(cur);
+            // A node is occupied by others if someone other than r stands on it.
+            let target = corridors.node_of(goal);
+            let occupied = |node: NodeId| occ[node as usize] > u32::from(node == own);
+            let blocked = |node: NodeId| match cfg.target_occupancy {
+                TargetOccupancy::BlocksWhenParked if node == target => parked[node as usize] > 0,
+                _ => occupied(node),
+            };
+            let mut best = u32::MAX;
+            choices.clear();
+            for &nk in g.neighbors(cur) {
+                if occupied(corridors.node_of(nk)) {
+                    continue;
+                }
+                let Some(rest) = corridors.route_length(g, nk, goal, cur, &blocked) else {
+                    continue;
+                };
+                let len = 1 + rest;
+                if len < best {
+                    best = len;
+                    choices.clear();
+                    choices.push(nk);
+                } else if len == best && cfg.tie_break == TieBreak::Random {
+                    choices.push(nk);
+                }
+            }
+            let chosen = match cfg.tie_break {
+                TieBreak::First => choices.first().copied(),
+                TieBreak::Random => choices.choose(rng).copied(),
+            };
+            if let Some(nk) = chosen {
+                next[r] = nk;
+                if cfg.update == GreedyUpdate::Sequential {
+                    occupancy[own as usize] -= 1;
+                    occupancy[corridors.node_of(nk) as usize] += 1;
+                    pos[r] = nk;
+                }
+            }
+        }
+        if cfg.update == GreedyUpdate::Simultaneous {
+            for r in 0..n {
+                occupancy[corridors.node_of(pos[r]) as usize] -= 1;
+                occupancy[corridors.node_of(next[r]) as usize] += 1;
+            }
+        }
+        pos = next;
+        for (r, (p, g)) in pos.iter().zip(&inst.goals).enumerate() {
+            if p == g && paths[r].last() != Some(g) {
+                parked[corridors.node_of(*p) as usize] += 1;
+            }
+        }
+        for (p, &v) in paths.iter_mut().zip(&pos) {
+            p.push(v);
+        }
+        if !seen.insert(pos.clone()) {
+            return Ok((paths, GreedyEnd::Cycle));
+        }
+    }
+    let end = if pos.iter().zip(&inst.goals).all(|(p, g)| p == g) {
+        GreedyEnd::AllOnGoal
+    } else {
+        GreedyEnd::StepCap
+    };
+    Ok((paths, end))
+}
+
+/// Step 2, Algorithm 2: from the end of the path backwards, whenever a cell appeared earlier, the
+/// positions between its first and this occurrence are removed (waits count as loops too).
+pub fn loop_elimination(path: &mut Vec<VertexId>) {
+    let mut i = path.len();
+    while i > 1 {
+        i -= 1;
+        if let Some(j) = path[..i].iter().position(|&v| v == path[i]) {
+            path.drain(j + 1..=i);
+            i = j + 1;
+        }
+    }
+}
+
+/// Inserts `count` halts at position `at` (the robot stays on `path[at]` `count` more steps).
+fn insert_halts(path: &[VertexId], at: usize, count: usize) -> Vec<VertexId> {
+    let at = at.min(path.len() - 1);
+    let mut out = Vec::with_capacity(path.len() + count);
+    out.extend_from_slice(&path[..=at]);
+    out.extend(std::iter::repeat_n(path[at], count));
+    out.extend_from_slice(&path[at + 1..]);
+    out
+}
+
+/// Algorithm 4: resolve the collision of robots `a` and `b` at step `t` by inserting `i` halts at
+/// position `t - i` in `a`'s path, or failing that in `b`'s, for `i = 1..=t`. Returns false when
+/// no `i` works.
+pub fn resolve_collision(
+    paths: &mut [Vec<VertexId>],
+    a: usize,
+    b: usize,
+    t: usize,
+    num_vertices: usize,
+) -> bool {
+    for i in 1..=t {
+        let new_a = insert_halts(&paths[a], t - i, i);
+        if first_conflict(&[new_a.clone(), paths[b].clone()], num_vertices, true).is_none() {
+            paths[a] = new_a;
+            return true;
+        }
+        let new_b = insert_halts(&paths[b], t - i, i);
+        if first_conflict(&[paths[a].clone(), new_b.clone()], num_vertices, true).is_none() {
+            paths[b] = new_b;
+            return true;
+        }
+    }
+    false
+}
+
+/// How collision elimination ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ResolutionEnd {
+    NoConflict,
+    /// Algorithm 4 found no halts that clear the first conflict.
+    Stuck,
+    RoundCap,
+}
+
+/// Step 3, Algorithm 3: resolve the first conflict with Algorithm 4 until none is left.
+pub fn collision_elimination(
+    paths: &mut [Vec<VertexId>],
+    num_vertices: usize,
+    max_rounds: usize,
+    max_stretch: usize,
+    deadline: Deadline,
+) -> Result<ResolutionEnd, Unsolved> {
+    let longest = |paths: &[Vec<VertexId>]| paths.iter().map(Vec::len).max().unwrap_or(0);
+    let limit = longest(paths).saturating_mul(max_stretch.max(1));
+    for _ in 0..max_rounds {
+        if longest(paths) > limit {
+            break;
+        }
+        let Some(c) = first_conflict(paths, num_vertices, true) else {
+            return Ok(ResolutionEnd::NoConflict);
+        };
+        if deadline.expired() {
+            return Err(Unsolved::TimeLimit);
+        }
+        if !resolve_collision(paths, c.a, c.b, c.t, num_vertices) {
+            return Ok(ResolutionEnd::Stuck);
+        }
+    }
+    Ok(if first_conflict(paths, num_vertices, true).is_none() {
+        ResolutionEnd::NoConflict
+    } else {
+        ResolutionEnd::RoundCap
+    })
+}
+
+/// Space-time A* for robot `i` from its start at time 0 against `res`, arriving by `max_time`,
+/// guided by its goal's distance table `dist`.
+fn plan_robot(
+    g: &Graph,
+    inst: &Instance,
+    dist: &[u32],
+    i: usize,
+    res: &Reservations,
+    max_time: u32,
+    deadline: Deadline,
+) -> Search {
+    let h = |v: VertexId| dist[v as usize];
+    let q = Query {
+        graph: g,
+        start: inst.starts[i],
+        goal: inst.goals[i],
+        start_time: 0,
+        h: &h,
+        max_time,
+        window: None,
+        deadline,
+    };
+    space_time_astar(&q, res)
+}
+
+/// Our extension (module doc): re-plan the robots that are short of their goals or in conflict
+/// with space-time A* against the other robots' paths; restart with a failing robot first.
+pub fn reservation_repair(
+    g: &Graph,
+    inst: &Instance,
+    paths: &[Vec<VertexId>],
+    max_rounds: usize,
+    deadline: Deadline,
+) -> Result<Vec<Vec<VertexId>>, Unsolved> {
+    let n = inst.num_agents();
+    let nv = g.num_vertices();
+    let dist = goal_distance_tables(g, &inst.goals);
+    for (i, d) in dist.iter().enumerate() {
+        if d[inst.starts[i] as usize] == UNREACHABLE {
+            return Err(Unsolved::GaveUp(format!(
+                "agent {i} cannot reach its goal on this map"
+            )));
+        }
+    }
+    // Robots to re-plan: short of goal, then one robot of each remaining conflict.
+    let mut replan: Vec<bool> = (0..n)
+        .map(|i| paths[i].last() != Some(&inst.goals[i]))
+        .collect();
+    loop {
+        let kept: Vec<usize> = (0..n).filter(|&i| !replan[i]).collect();
+        let kept_paths: Vec<Vec<VertexId>> = kept.iter().map(|&i| paths[i].clone()).collect();
+        match first_conflict(&kept_paths, nv, true) {
+            None => break,
+            Some(c) => replan[kept[c.b]] = true,
+        }
+    }
+    // Longest remaining distance first among the re-planned robots.
+    let mut order: Vec<usize> = (0..n).filter(|&i| replan[i]).collect();
+    order.sort_by_key(|&i| (std::cmp::Reverse(dist[i][inst.starts[i] as usize]), i));
+    let mut fixed: Vec<bool> = replan.iter().map(|r| !r).collect();
+    for _round in 0..max_rounds.max(1) {
+        let mut res = Reservations::new(nv);
+        let mut out = paths.to_vec();
+        for i in (0..n).filter(|&i| fixed[i]) {
+            res.reserve_path(&paths[i], 0, true);
+        }
+        let mut failed = None;
+        for &i in &order {
+            let max_time = res.horizon() + nv as u32 + 1;
+            match plan_robot(g, inst, &dist[i], i, &res, max_time, deadline) {
+                Search::Found(p) => {
+                    res.reserve_path(&p, 0, true);
+                    out[i] = p;
+                }
+                Search::TimedOut => return Err(Unsolved::TimeLimit),
+                Search::NotFound => {
+                    failed = Some(i);
+                    break;
+                }
+            }
+        }
+        match failed {
+            None => return Ok(out),
+            Some(i) => {
+                // Free the robots in i's way and plan i before them: first those parked on a
+                // shortest route of i, else those whose paths cross it, else everyone.
+                let route: FxHashSet<VertexId> =
+                    descend(g, &dist[i], inst.starts[i]).into_iter().collect();
+                let candidates: Vec<usize> = (0..n).filter(|&j| fixed[j]).collect();
+                let mut freed: Vec<usize> = candidates
+                    .iter()
+                    .copied()
+                    .filter(|&j| route.contains(&inst.goals[j]))
+                    .collect();
+                if freed.is_empty() {
+                    freed = candidates
+                        .iter()
+                        .copied()
+                        .filter(|&j| paths[j].iter().any(|v| route.contains(v)))
+                        .collect();
+                }
+                if freed.is_empty() {
+                    freed = candidates;
+                }
+                freed.sort_by_key(|&j| (std::cmp::Reverse(dist[j][inst.starts[j] as usize]), j));
+                for &j in &freed {
+                    fixed[j] = false;
+                }
+                let mut next: Vec<usize> = vec![i];
+                next.extend(freed);
+                next.extend(order.iter().copied().filter(|&j| j != i));
+                order = next;
+            }
+        }
+        if deadline.expired() {
+            return Err(Unsolved::TimeLimit);
+        }
+    }
+    Err(Unsolved::GaveUp(format!(
+        "repair found no conflict-free plan in {max_rounds} rounds"
+    )))
+}
+
+/// What the paper's steps produced, for reports and tests.
+#[derive(Debug, Clone)]
+pub struct PaperStages {
+    pub paths: Vec<Vec<VertexId>>,
+    pub greedy_end: GreedyEnd,
+    pub resolution_end: ResolutionEnd,
+}
+
+/// Runs the paper's three steps.
+pub fn paper_stages(
+    g: &Graph,
+    inst: &Instance,
+    cfg: &HStar,
+    opts: &Ctx,
+) -> Result<PaperStages, Unsolved> {
+    let corridors = Corridors::build(g);
+    let mut rng = ChaCha8Rng::seed_from_u64(opts.seed);
+    let (mut paths, greedy_end) =
+        greedy_path_search(g, &corridors, inst, cfg, &mut rng, opts.deadline)?;
+    for p in &mut paths {
+        loop_elimination(p);
+    }
+    let resolution_end = collision_elimination(
+        &mut paths,
+        g.num_vertices(),
+        cfg.max_resolution_rounds
+            .unwrap_or(100 + 10 * inst.num_agents()),
+        cfg.max_stretch,
+        opts.deadline,
+    )?;
+    Ok(PaperStages {
+        paths,
+        greedy_end,
+        resolution_end,
+    })
+}
+
+impl Planner<MapfProblem> for HStar {
+    fn name(&self) -> &str {
+        NAME
+    }
+
+    fn plan(&self, problem: &MapfProblem, opts: &Ctx) -> Result<Plan, Unsolved> {
+        let (g, inst) = (problem.graph(), problem.instance());
+        let stages = paper_stages(g, inst, self, opts)?;
+        let short: Vec<usize> = (0..inst.num_agents())
+            .filter(|&i| stages.paths[i].last() != Some(&inst.goals[i]))
+            .collect();
+        let clean = short.is_empty() && stages.resolution_end == ResolutionEnd::NoConflict;
+        let mut paths = match (clean, self.variant) {
+            (true, _) => stages.paths,
+            (false, Variant::Paper) => {
+                return Err(Unsolved::GaveUp(if !short.is_empty() {
+                    format!(
+                        "paper steps leave {} robot(s) short of their goals (greedy stage ended: {:?}), e.g. agent {} at {}",
+                        short.len(),
+                        stages.greedy_end,
+                        short[0],
+                        g.label(position(&stages.paths[short[0]], usize::MAX))
+                    )
+                } else {
+                    format!(
+                        "paper steps leave conflicts (collision elimination ended: {:?})",
+                        stages.resolution_end
+                    )
+                }));
+            }
+            (false, Variant::Repaired) => reservation_repair(
+                g,
+                inst,
+                &stages.paths,
+                self.max_repair_rounds,
+                opts.deadline,
+            )?,
+        };
+        if self.variant == Variant::Repaired {
+            local_replanning(g, inst, &mut paths, self.replanning_passes, opts.deadline)?;
+        }
+        Ok(Plan::new(paths))
+    }
+}
+
+/// Our second extension of the local search (repaired variant only), in two moves, repeated while
+/// either improves something (at most `passes` times):
+/// - *single*: each robot in turn, most delayed first, is re-planned with space-time A* against
+///   every other robot's path and keeps the new path only if it arrives strictly earlier;
+/// - *pair*: a delayed robot and one robot whose path crosses its shortest route (at most
+///   `PAIR_CANDIDATES` of them, most delayed first) are both re-planned, in both orders, and the
+///   better pair of paths is kept if their summed cost drops. Two robots that hold each other up in
+///   a corridor can only be untangled together.
+///
+/// Algorithm 4 clears a conflict with whatever number of halts works first, and the greedy stage's
+/// detours around occupied corridors stay in the paths; these moves remove such waits and detours
+/// when the other robots' timing allows. Neither makes the sum of costs larger and both keep the
+/// plan conflict-free.
+pub fn local_replanning(
+    g: &Graph,
+    inst: &Instance,
+    paths: &mut [Vec<VertexId>],
+    passes: usize,
+    deadline: Deadline,
+) -> Result<(), Unsolved> {
+    const PAIR_CANDIDATES: usize = 3;
+    let n = inst.num_agents();
+    let dist = goal_distance_tables(g, &inst.goals);
+    let ideal = |i: usize| dist[i][inst.starts[i] as usize] as usize;
+    let cost = |p: &[VertexId], i: usize| {
+        mrpp_core::mapf::plan::path_cost(
+            p,
+            inst.goals[i],
+            mrpp_core::mapf::plan::GoalSemantics::Stay,
+        )
+        .unwrap_or(usize::MAX)
+    };
+    let routes: Vec<FxHashSet<VertexId>> = (0..n)
+        .map(|i| descend(g, &dist[i], inst.starts[i]).into_iter().collect())
+        .collect();
+    // Plans `order` one after another against every path except theirs, their costs summing to at
+    // most `budget` (each robot needs at least its distance); None if that is impossible.
+    let replan = |paths: &[Vec<VertexId>],
+                  order: &[usize],
+                  budget: usize|
+     -> Result<Option<Vec<Vec<VertexId>>>, Unsolved> {
+        let mut res = Reservations::new(g.num_vertices());
+        for (j, p) in paths.iter().enumerate() {
+            if !order.contains(&j) {
+                res.reserve_path(p, 0, true);
+            }
+        }
+        let mut out = Vec::with_capacity(order.len());
+        let mut left = budget;
+        for (k, &i) in order.iter().enumerate() {
+            let others: usize = order[k + 1..].iter().map(|&j| ideal(j)).sum();
+            let Some(bound) = left.checked_sub(others) else {
+                return Ok(None);
+            };
+            match plan_robot(g, inst, &dist[i], i, &res, bound as u32, deadline) {
+                Search::Found(p) => {
+                    res.reserve_path(&p, 0, true);
+                    left -= cost(&p, i).min(left);
+                    out.push(p);
+                }
+                Search::TimedOut => return Err(Unsolved::TimeLimit),
+                Search::NotFound => return Ok(None),
+            }
+        }
+        Ok(Some(out))
+    };
+    for _ in 0..passes {
+        let mut order: Vec<usize> = (0..n).filter(|&i| cost(&paths[i], i) > ideal(i)).collect();
+        order.sort_by_key(|&i| (std::cmp::Reverse(cost(&paths[i], i) - ideal(i)), i));
+        let mut improved = false;
+        for &i in &order {
+            let current = cost(&paths[i], i);
+            if current > ideal(i)
+                && let Some(mut p) = replan(paths, &[i], current - 1)?
+                && cost(&p[0], i) < current
+            {
+                paths[i] = p.remove(0);
+                improved = true;
+            }
+        }
+        for &i in &order {
+            if cost(&paths[i], i) <= ideal(i) {
+                continue;
+            }
+            let mut partners: Vec<usize> = (0..n)
+                .filter(|&j| j != i && paths[j].iter().any(|v| routes[i].contains(v)))
+                .collect();
+            partners.sort_by_key(|&j| (std::cmp::Reverse(cost(&paths[j], j) - ideal(j)), j));
+            for &j in partners.iter().take(PAIR_CANDIDATES) {
+                let before = cost(&paths[i], i) + cost(&paths[j], j);
+                let mut best: Option<(usize, Vec<Vec<VertexId>>)> = None;
+                for pair in [[i, j], [j, i]] {
+                    if let Some(ps) = replan(paths, &pair, before - 1)? {
+                        let total = cost(&ps[0], pair[0]) + cost(&ps[1], pair[1]);
+                        if total < before && best.as_ref().is_none_or(|(b, _)| total < *b) {
+                            let mut ordered = ps;
+                            if pair[0] == j {
+                                ordered.swap(0, 1);
+                            }
+                            best = Some((total, ordered));
+                        }
+                    }
+                }
+                if let Some((_, mut ps)) = best {
+                    paths[j] = ps.pop().expect("two paths");
+                    paths[i] = ps.pop().expect("two paths");
+                    improved = true;
+                    break;
+                }
+            }
+        }
+        if !improved {
+            break;
+        }
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::map::GridMap;
+    use mrpp_core::{Instance, Problem as _, Rules};
+    use std::path::Path;
+
+    #[test]
+    fn loop_elimination_cuts_cycles_and_waits() {
+        let mut p = vec![1, 2, 3, 2, 4, 4, 5];
+        loop_elimination(&mut p);
+        assert_eq!(p, vec![1, 2, 4, 5]);
+        let mut q = vec![1, 2, 1, 2, 3];
+        loop_elimination(&mut q);
+        assert_eq!(q, vec![1, 2, 3]);
+        let mut r = vec![7];
+        loop_elimination(&mut r);
+        assert_eq!(r, vec![7]);
+    }
+
+    #[test]
+    fn halts_are_inserted_before_the_collision() {
+        assert_eq!(insert_halts(&[1, 2, 3], 1, 2), vec![1, 2, 2, 2, 3]);
+        // Plus: centre 0, W=1 E=2 N=3 S=4; both cross the centre at t=1.
+        let mut paths = vec![vec![1, 0, 2], vec![4, 0, 3]];
+        assert!(resolve_collision(&mut paths, 0, 1, 1, 5));
+        assert_eq!(paths[0], vec![1, 1, 0, 2]);
+        assert!(first_conflict(&paths, 5, true).is_none());
+    }
+
+    fn solve_map(
+        map: &str,
+        robots: &str,
+        planner: &HStar,
+    ) -> (GridMap, Instance, Result<Plan, Unsolved>) {
+        let m = GridMap::parse(map, Path::new("m.txt")).unwrap().0;
+        let inst = crate::scen::parse_agents(robots, Path::new("r.txt"), &m, None).unwrap();
+        let r = planner.plan(
+            &MapfProblem::on(m.graph(), &inst, Rules::default()),
+            &Ctx::default(),
+        );
+        (m, inst, r)
+    }
+
+    #[test]
+    fn open_room_crossing_is_solved_and_valid() {
+        let map = "#######\n#     #\n#     #\n#     #\n#######";
+        let (m, inst, r) = solve_map(map, "1,2;5,2\n5,2;1,2\n3,1;3,3\n3,3;3,1", &HStar::default());
+        let plan = r.unwrap();
+        let metrics = MapfProblem::on(m.graph(), &inst, Rules::default())
+            .validate(&plan)
+            .unwrap();
+        assert!(metrics.sum_of_costs >= 4 + 4 + 2 + 2);
+    }
+
+    #[test]
+    fn head_on_in_a_corridor_needs_the_repair() {
+        // Two robots must pass each other through a 1-wide corridor with a side pocket.
+        let map = "#########\n## ######\n#       #\n#########";
+        let robots = "1,2;7,2\n7,2;1,2";
+        let (m, inst, r) = solve_map(map, robots, &HStar::default());
+        let plan = r.unwrap();
+        MapfProblem::on(m.graph(), &inst, Rules::default())
+            .validate(&plan)
+            .unwrap();
+        let (_, _, paper) = solve_map(map, robots, &HStar::paper());
+        match paper {
+            Ok(p) => {
+                MapfProblem::on(m.graph(), &inst, Rules::default())
+                    .validate(&p)
+                    .unwrap();
+            }
+            Err(Unsolved::GaveUp(_)) => {}
+            Err(e) => panic!("unexpected {e}"),
+        }
+    }
+
+    #[test]
+    fn expired_deadline_is_honoured() {
+        let m = GridMap::parse("#######\n#     #\n#     #\n#######", Path::new("m.txt"))
+            .unwrap()
+            .0;
+        let inst =
+            crate::scen::parse_agents("1,1;5,2\n5,1;1,2", Path::new("r.txt"), &m, None).unwrap();
+        let opts = Ctx::new(0, Deadline::after(std::time::Duration::ZERO));
+        assert_eq!(
+            HStar::default().plan(&MapfProblem::on(m.graph(), &inst, Rules::default()), &opts),
+            Err(Unsolved::TimeLimit)
+        );
+    }
+}

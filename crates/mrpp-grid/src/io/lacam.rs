@@ -1,0 +1,473 @@
+//! The text result format of LaCAM/PIBT, so existing MAPF visualizers (and scripts written for
+//! those planners) read our plans, and so `mrpp validate` reads theirs.
+//!
+//! ```text
+//! agents=2
+//! map_file=room.map
+//! solver=pibt
+//! solved=1
+//! soc=5
+//! makespan=3
+//! comp_time=12
+//! starts=(1,0),(3,0),
+//! goals=(2,0),(0,2),
+//! solution=
+//! 0:(1,0),(3,0),
+//! 1:(2,0),(3,1),
+//! ...
+//! ```
+//!
+//! Cells are `(x,y)` with x the column and y the row. Each `solution` line is the configuration of
+//! all agents at one time step, from 0 to the makespan; an agent whose path has ended is repeated
+//! on its last cell. Keys the reader does not know (`soc_lb`, `makespan_lb`, `seed`, ...) are
+//! skipped, as LaCAM's variants add their own.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use rustc_hash::FxHashMap;
+
+use crate::map::GridMap;
+use mrpp_core::error::{Error, Result};
+use mrpp_core::mapf::graph::VertexId;
+use mrpp_core::mapf::instance::Instance;
+use mrpp_core::mapf::plan::{Metrics, Plan, position};
+
+/// Writes the LaCAM text result. `outcome` is `None` when nothing was solved: the text then says
+/// `solved=0`, `soc=0`, `makespan=0` (as LaCAM does) and has an empty `solution=` section.
+///
+/// `comp_time` is written in whole milliseconds (rounded; negative or non-finite becomes 0),
+/// because LaCAM writes an integer and some readers parse it as one. The solution runs from step 0
+/// to `metrics.makespan`, extended if some path still moves later (possible only for plans under
+/// `visit` semantics), so no information of the plan is cut off.
+pub fn write_lacam(
+    map: &GridMap,
+    map_file: &str,
+    solver: &str,
+    inst: &Instance,
+    outcome: Option<(&Plan, Metrics)>,
+    comp_time_ms: f64,
+) -> String {
+    let n = inst.num_agents();
+    let comp_time = if comp_time_ms.is_finite() && comp_time_ms > 0.0 {
+        comp_time_ms.round() as u64
+    } else {
+        0
+    };
+    let (soc, makespan) = outcome.map_or((0, 0), |(_, m)| (m.sum_of_costs, m.makespan));
+    let mut s = String::new();
+    let _ = writeln!(s, "agents={n}");
+    let _ = writeln!(s, "map_file={}", one_line(map_file));
+    let _ = writeln!(s, "solver={}", one_line(solver));
+    let _ = writeln!(s, "solved={}", u8::from(outcome.is_some()));
+    let _ = writeln!(s, "soc={soc}");
+    let _ = writeln!(s, "makespan={makespan}");
+    let _ = writeln!(s, "comp_time={comp_time}");
+    let cells = |s: &mut String, vs: &mut dyn Iterator<Item = VertexId>| {
+        for v in vs {
+            let (x, y) = map.cell(v);
+            let _ = write!(s, "({x},{y}),");
+        }
+        s.push('\n');
+    };
+    s.push_str("starts=");
+    cells(&mut s, &mut inst.starts.iter().copied());
+    s.push_str("goals=");
+    cells(&mut s, &mut inst.goals.iter().copied());
+    s.push_str("solution=\n");
+    if let Some((plan, m)) = outcome {
+        let last_move = plan
+            .paths
+            .iter()
+            .map(|p| {
+                // Last step at which this path changes cell.
+                p.windows(2)
+                    .rposition(|w| w[0] != w[1])
+                    .map_or(0, |i| i + 1)
+            })
+            .max()
+            .unwrap_or(0);
+        let horizon = (m.makespan as usize).max(last_move);
+        // An empty path makes the plan invalid anyway; writing no steps beats panicking here.
+        if plan.paths.iter().all(|p| !p.is_empty()) {
+            for t in 0..=horizon {
+                let _ = write!(s, "{t}:");
+                cells(&mut s, &mut plan.paths.iter().map(|p| position(p, t)));
+            }
+        }
+    }
+    s
+}
+
+/// Names and solver names go on one `key=value` line; a line break in them would end the line.
+fn one_line(s: &str) -> String {
+    s.replace(['\n', '\r'], " ")
+}
+
+/// Reads a LaCAM text result on `map` into the instance and the plan it holds.
+///
+/// Every path has one vertex per `solution` line (trailing waits are kept; [`Plan::trim`] drops
+/// them). Errors are [`Error::Parse`] naming the line: a missing or malformed key, a wall or
+/// off-map cell (naming the cell), a tuple count that differs from `agents=`, steps out of order,
+/// two agents sharing a start or goal. A result with `solved=0` is [`Error::Invalid`]: it holds
+/// no plan. Whether the plan itself is valid is the validator's question.
+pub fn parse_lacam(text: &str, path: &Path, map: &GridMap) -> Result<(Instance, Plan)> {
+    let mut agents: Option<(usize, usize)> = None;
+    let mut solved: Option<(bool, usize)> = None;
+    let mut starts: Option<(Vec<VertexId>, usize)> = None;
+    let mut goals: Option<(Vec<VertexId>, usize)> = None;
+    // Each step's configuration and its line.
+    let mut steps: Vec<(Vec<VertexId>, usize)> = Vec::new();
+    let mut in_solution = false;
+    let mut last_line = 0;
+    for (i, raw) in text.lines().enumerate() {
+        let no = i + 1;
+        last_line = no;
+        let line = raw.trim();
+        if line.is_empty() {
+            continue;
+        }
+        if in_solution {
+            let (t, rest) = line.split_once(':').ok_or_else(|| {
+                Error::parse(path, no, format!("expected `t:(x,y),...`, found `{line}`"))
+            })?;
+            let t: usize = t
+                .trim()
+                .parse()
+                .map_err(|_| Error::parse(path, no, format!("bad time step `{}`", t.trim())))?;
+            if t != steps.len() {
+                return Err(Error::parse(
+                    path,
+                    no,
+                    format!("time step {t} where step {} was expected", steps.len()),
+                ));
+            }
+            let cfg = cells(rest, path, no, map)?;
+            if let Some((n, _)) = agents
+                && cfg.len() != n
+            {
+                return Err(Error::parse(
+                    path,
+                    no,
+                    format!("step {t} has {} cells but agents={n}", cfg.len()),
+                ));
+            }
+            steps.push((cfg, no));
+            continue;
+        }
+        let (key, value) = line.split_once('=').ok_or_else(|| {
+            Error::parse(path, no, format!("expected `key=value`, found `{line}`"))
+        })?;
+        let value = value.trim();
+        match key.trim() {
+            "agents" => {
+                let n = value.parse::<usize>().map_err(|_| {
+                    Error::parse(path, no, format!("agents=`{value}` is not a count"))
+                })?;
+                agents = Some((n, no));
+            }
+            "solved" => {
+                let b = match value {
+                    "1" | "true" => true,
+                    "0" | "false" => false,
+                    _ => {
+                        return Err(Error::parse(
+                            path,
+                            no,
+                            format!("solved=`{value}` is not 0 or 1"),
+                        ));
+                    }
+                };
+                solved = Some((b, no));
+            }
+            "starts" => starts = Some((cells(value, path, no, map)?, no)),
+            "goals" => goals = Some((cells(value, path, no, map)?, no)),
+            "solution" => {
+                if !value.is_empty() {
+                    return Err(Error::parse(
+                        path,
+                        no,
+                        "`solution=` must end its line; steps follow on their own lines",
+                    ));
+                }
+                in_solution = true;
+            }
+            _ => {} // soc, makespan, comp_time, soc_lb, seed, ...: informative only.
+        }
+    }
+    let missing = |key: &str| Error::parse(path, last_line.max(1), format!("no `{key}=` line"));
+    let (n, agents_line) = agents.ok_or_else(|| missing("agents"))?;
+    let (solved, _) = solved.ok_or_else(|| missing("solved"))?;
+    if !solved {
+        return Err(Error::invalid(
+            path,
+            "the result says solved=0: it holds no plan to validate",
+        ));
+    }
+    let (starts, starts_line) = starts.ok_or_else(|| missing("starts"))?;
+    let (goals, goals_line) = goals.ok_or_else(|| missing("goals"))?;
+    for (list, line, what) in [
+        (&starts, starts_line, "starts"),
+        (&goals, goals_line, "goals"),
+    ] {
+        if list.len() != n {
+            return Err(Error::parse(
+                path,
+                line,
+                format!(
+                    "{what} has {} cells but agents={n} (line {agents_line})",
+                    list.len()
+                ),
+            ));
+        }
+        let mut seen: FxHashMap<VertexId, usize> = FxHashMap::default();
+        for (i, &v) in list.iter().enumerate() {
+            if let Some(j) = seen.insert(v, i) {
+                let (x, y) = map.cell(v);
+                return Err(Error::parse(
+                    path,
+                    line,
+                    format!("agents {j} and {i} share the cell ({x},{y}) in {what}"),
+                ));
+            }
+        }
+    }
+    if !in_solution {
+        return Err(missing("solution"));
+    }
+    if steps.is_empty() {
+        return Err(Error::parse(
+            path,
+            last_line.max(1),
+            "solved=1 but the solution has no steps",
+        ));
+    }
+    // `agents=` may come after the steps in hand-made files, so the counts are checked again here.
+    if let Some((cfg, line)) = steps.iter().find(|(cfg, _)| cfg.len() != n) {
+        return Err(Error::parse(
+            path,
+            *line,
+            format!("this step has {} cells but agents={n}", cfg.len()),
+        ));
+    }
+    let paths = (0..n)
+        .map(|i| steps.iter().map(|(cfg, _)| cfg[i]).collect())
+        .collect();
+    let inst = Instance::new(starts, goals).map_err(|msg| Error::invalid(path, msg))?;
+    Ok((inst, Plan::new(paths)))
+}
+
+/// Parses `(x,y),(x,y),` (spaces tolerated, final comma optional) into vertices of `map`.
+fn cells(text: &str, path: &Path, line: usize, map: &GridMap) -> Result<Vec<VertexId>> {
+    let mut out = Vec::new();
+    let mut rest = text.trim();
+    while !rest.is_empty() {
+        let bad = || {
+            Error::parse(
+                path,
+                line,
+                format!(
+                    "expected `(x,y),` at `{}`",
+                    rest.chars().take(20).collect::<String>()
+                ),
+            )
+        };
+        let inner_end = rest.find(')').ok_or_else(bad)?;
+        let inner = rest.strip_prefix('(').ok_or_else(bad)?;
+        let inner = &inner[..inner_end - 1];
+        let (x, y) = inner.split_once(',').ok_or_else(bad)?;
+        let x: i64 = x.trim().parse().map_err(|_| bad())?;
+        let y: i64 = y.trim().parse().map_err(|_| bad())?;
+        let v = map.vertex_at(x, y).ok_or_else(|| {
+            Error::parse(
+                path,
+                line,
+                format!(
+                    "agent {}: {}",
+                    out.len(),
+                    map.cell_problem(x, y).unwrap_or_default()
+                ),
+            )
+        })?;
+        out.push(v);
+        rest = rest[inner_end + 1..].trim_start();
+        rest = rest.strip_prefix(',').unwrap_or(rest).trim_start();
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mrpp_core::{MapfProblem, Problem as _, Rules};
+
+    /// ```text
+    /// ...
+    /// .@.
+    /// ...
+    /// ```
+    fn map() -> GridMap {
+        GridMap::parse(
+            "type octile\nheight 3\nwidth 3\nmap\n...\n.@.\n...\n",
+            Path::new("m.map"),
+        )
+        .unwrap()
+        .0
+    }
+
+    fn v(m: &GridMap, x: i64, y: i64) -> VertexId {
+        m.vertex_at(x, y).unwrap()
+    }
+
+    /// Agent 0 goes (0,0) -> (2,0) along the top; agent 1 waits one step, then (2,2) -> (2,1).
+    fn tiny() -> (GridMap, Instance, Plan, Metrics) {
+        let m = map();
+        let inst = Instance::new(
+            vec![v(&m, 0, 0), v(&m, 2, 2)],
+            vec![v(&m, 2, 0), v(&m, 2, 1)],
+        )
+        .unwrap();
+        let plan = Plan::new(vec![
+            vec![v(&m, 0, 0), v(&m, 1, 0), v(&m, 2, 0)],
+            vec![v(&m, 2, 2), v(&m, 2, 2), v(&m, 2, 1)],
+        ]);
+        let metrics = MapfProblem::on(m.graph(), &inst, Rules::default())
+            .validate(&plan)
+            .unwrap();
+        (m, inst, plan, metrics)
+    }
+
+    #[test]
+    fn exact_text_of_a_tiny_plan() {
+        let (m, inst, plan, metrics) = tiny();
+        let text = write_lacam(&m, "m.map", "pibt", &inst, Some((&plan, metrics)), 3.6);
+        assert_eq!(
+            text,
+            "agents=2\nmap_file=m.map\nsolver=pibt\nsolved=1\nsoc=4\nmakespan=2\ncomp_time=4\n\
+             starts=(0,0),(2,2),\ngoals=(2,0),(2,1),\nsolution=\n\
+             0:(0,0),(2,2),\n1:(1,0),(2,2),\n2:(2,0),(2,1),\n"
+        );
+    }
+
+    #[test]
+    fn round_trip_gives_the_same_plan_after_trimming() {
+        let (m, inst, _, _) = tiny();
+        // Agent 0 arrives at t=2, agent 1 at t=4 (after two waits) and agent 0's path ends early.
+        let plan = Plan::new(vec![
+            vec![v(&m, 0, 0), v(&m, 1, 0), v(&m, 2, 0), v(&m, 2, 0)],
+            vec![
+                v(&m, 2, 2),
+                v(&m, 1, 2),
+                v(&m, 1, 2),
+                v(&m, 2, 2),
+                v(&m, 2, 1),
+            ],
+        ]);
+        let metrics = MapfProblem::on(m.graph(), &inst, Rules::default())
+            .validate(&plan)
+            .unwrap();
+        let text = write_lacam(&m, "m.map", "x", &inst, Some((&plan, metrics)), 0.0);
+        let (inst2, mut plan2) = parse_lacam(&text, Path::new("r.txt"), &m).unwrap();
+        assert_eq!(inst2, inst);
+        assert!(
+            plan2.paths.iter().all(|p| p.len() == 5),
+            "one cell per step"
+        );
+        assert_eq!(
+            MapfProblem::on(m.graph(), &inst2, Rules::default()).validate(&plan2),
+            Ok(metrics)
+        );
+        let mut want = plan.clone();
+        want.trim();
+        plan2.trim();
+        assert_eq!(plan2, want);
+    }
+
+    #[test]
+    fn unsolved_result_holds_no_plan() {
+        let (m, inst, _, _) = tiny();
+        let text = write_lacam(&m, "m.map", "x", &inst, None, f64::NAN);
+        assert!(
+            text.contains("solved=0\nsoc=0\nmakespan=0\ncomp_time=0\n"),
+            "{text}"
+        );
+        assert!(text.ends_with("solution=\n"), "{text}");
+        let err = parse_lacam(&text, Path::new("r.txt"), &m).unwrap_err();
+        assert!(matches!(err, Error::Invalid { .. }), "{err}");
+        assert!(err.to_string().contains("no plan"));
+    }
+
+    #[test]
+    fn reads_lacam_own_output_with_extra_keys_and_crlf() {
+        let m = map();
+        let text = "agents=2\r\nmap_file=m.map\r\nsolver=planner\r\nsolved=1\r\nsoc=4\r\n\
+                    soc_lb=4\r\nmakespan=2\r\nmakespan_lb=2\r\ncomp_time=0\r\nseed=0\r\n\
+                    starts=(0,0),(2,2),\r\ngoals=(2,0),(2,1)\r\nsolution=\r\n\
+                    0:(0,0),(2,2),\r\n1:( 1 , 0 ),(2,2),\r\n2:(2,0),(2,1),\r\n";
+        let (inst, plan) = parse_lacam(text, Path::new("r.txt"), &m).unwrap();
+        let metrics = MapfProblem::on(m.graph(), &inst, Rules::default())
+            .validate(&plan)
+            .unwrap();
+        assert_eq!((metrics.sum_of_costs, metrics.makespan), (4, 2));
+    }
+
+    fn err_of(text: &str) -> String {
+        parse_lacam(text, Path::new("r.txt"), &map())
+            .unwrap_err()
+            .to_string()
+    }
+
+    const HEAD: &str = "agents=2\nsolved=1\nstarts=(0,0),(2,2),\ngoals=(2,0),(2,1),\nsolution=\n";
+
+    #[test]
+    fn errors_name_the_line_and_cell() {
+        let e = err_of(&format!("{HEAD}0:(0,0),(2,2),\n1:(1,1),(2,2),\n"));
+        assert!(e.starts_with("r.txt:7:"), "{e}");
+        assert!(e.contains("agent 0: cell (1,1) is a wall"), "{e}");
+
+        let e = err_of(&format!("{HEAD}0:(0,0),(2,2),\n1:(0,0),(3,2),\n"));
+        assert!(e.starts_with("r.txt:7:"), "{e}");
+        assert!(e.contains("agent 1: cell (3,2) is off the 3x3 map"), "{e}");
+
+        let e = err_of(&format!("{HEAD}0:(0,0),(2,2),\n2:(0,0),(2,2),\n"));
+        assert!(
+            e.starts_with("r.txt:7:") && e.contains("step 1 was expected"),
+            "{e}"
+        );
+
+        let e = err_of(&format!("{HEAD}0:(0,0),\n"));
+        assert!(
+            e.starts_with("r.txt:6:") && e.contains("1 cells but agents=2"),
+            "{e}"
+        );
+
+        let e = err_of(&format!("{HEAD}0:(0,0)(2,2\n"));
+        assert!(
+            e.starts_with("r.txt:6:") && e.contains("expected `(x,y),`"),
+            "{e}"
+        );
+
+        let e = err_of(
+            "agents=2\nsolved=1\nstarts=(0,0),(0,0),\ngoals=(2,0),(2,1),\nsolution=\n0:(0,0),(0,0),\n",
+        );
+        assert!(
+            e.starts_with("r.txt:3:") && e.contains("share the cell (0,0)"),
+            "{e}"
+        );
+
+        let e = err_of("agents=2\nsolved=1\nstarts=(0,0),(2,2),\nsolution=\n0:(0,0),(2,2),\n");
+        assert!(e.contains("no `goals=` line"), "{e}");
+
+        let e = err_of("agents=2\nsolved=1\nstarts=(0,0),\ngoals=(2,0),(2,1),\nsolution=\n");
+        assert!(
+            e.starts_with("r.txt:3:") && e.contains("starts has 1 cells"),
+            "{e}"
+        );
+
+        let e = err_of(HEAD);
+        assert!(e.contains("no steps"), "{e}");
+
+        let e = err_of("agents=two\n");
+        assert!(e.starts_with("r.txt:1:"), "{e}");
+    }
+}

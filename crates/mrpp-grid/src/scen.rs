@@ -1,0 +1,241 @@
+//! Agents of grid instances: they come from MovingAI `.scen` files (the first N lines are agents 0..N) or from the
+//! H* paper's robot files (`x,y;x,y` per line, `#` comments); the format is detected from the
+//! content. Every cell is checked against the map, and two agents may share neither a start nor a
+//! goal.
+
+use std::path::Path;
+
+use rustc_hash::FxHashMap;
+
+use mrpp_core::error::{Error, Result, read_file};
+use mrpp_core::mapf::graph::VertexId;
+use mrpp_core::mapf::instance::Instance;
+
+use crate::map::GridMap;
+
+/// Reads a `.scen` or robot file for `map`, keeping the first `agents` entries (all when `None`).
+pub fn load_agents(path: &Path, map: &GridMap, agents: Option<usize>) -> Result<Instance> {
+    let text = read_file(path)?;
+    parse_agents(&text, path, map, agents)
+}
+
+/// Parses agent text (`.scen` or robot file, detected from the content); `path` only names the
+/// source in errors.
+pub fn parse_agents(
+    text: &str,
+    path: &Path,
+    map: &GridMap,
+    agents: Option<usize>,
+) -> Result<Instance> {
+    let first = text.lines().find(|l| !l.trim().is_empty()).unwrap_or("");
+    let entries = if first.trim_start().starts_with("version") {
+        parse_scen(text, path, map)?
+    } else {
+        parse_robots(text, path)?
+    };
+    if entries.is_empty() {
+        return Err(Error::invalid(path, "no agents in file"));
+    }
+    let n = match agents {
+        Some(0) => return Err(Error::Param("--agents must be at least 1".into())),
+        Some(n) if n > entries.len() => {
+            return Err(Error::invalid(
+                path,
+                format!(
+                    "asked for {n} agents but the file has only {}",
+                    entries.len()
+                ),
+            ));
+        }
+        Some(n) => n,
+        None => entries.len(),
+    };
+    let mut starts = Vec::with_capacity(n);
+    let mut goals = Vec::with_capacity(n);
+    let mut start_line: FxHashMap<VertexId, usize> = FxHashMap::default();
+    let mut goal_line: FxHashMap<VertexId, usize> = FxHashMap::default();
+    for e in &entries[..n] {
+        let cell = |(x, y): (i64, i64), what: &str| {
+            map.vertex_at(x, y).ok_or_else(|| {
+                Error::parse(
+                    path,
+                    e.line,
+                    format!("{what} {}", map.cell_problem(x, y).unwrap_or_default()),
+                )
+            })
+        };
+        let s = cell(e.start, "start")?;
+        let g = cell(e.goal, "goal")?;
+        if let Some(prev) = start_line.insert(s, e.line) {
+            return Err(Error::parse(
+                path,
+                e.line,
+                format!(
+                    "start ({},{}) is also the start on line {prev}",
+                    e.start.0, e.start.1
+                ),
+            ));
+        }
+        if let Some(prev) = goal_line.insert(g, e.line) {
+            return Err(Error::parse(
+                path,
+                e.line,
+                format!(
+                    "goal ({},{}) is also the goal on line {prev}",
+                    e.goal.0, e.goal.1
+                ),
+            ));
+        }
+        starts.push(s);
+        goals.push(g);
+    }
+    Ok(Instance { starts, goals })
+}
+
+struct Entry {
+    line: usize,
+    start: (i64, i64),
+    goal: (i64, i64),
+}
+
+fn int(field: &str, path: &Path, line: usize, what: &str) -> Result<i64> {
+    field.trim().parse::<i64>().map_err(|_| {
+        Error::parse(
+            path,
+            line,
+            format!("{what} `{}` is not an integer", field.trim()),
+        )
+    })
+}
+
+fn parse_scen(text: &str, path: &Path, map: &GridMap) -> Result<Vec<Entry>> {
+    let mut out = Vec::new();
+    for (i, raw) in text.lines().enumerate() {
+        let no = i + 1;
+        let line = raw.trim_end_matches('\r');
+        if line.trim().is_empty() || line.trim_start().starts_with("version") {
+            continue;
+        }
+        let f: Vec<&str> = if line.contains('\t') {
+            line.split('\t').collect()
+        } else {
+            line.split_whitespace().collect()
+        };
+        if f.len() < 8 {
+            return Err(Error::parse(
+                path,
+                no,
+                format!("expected 9 fields, found {}", f.len()),
+            ));
+        }
+        let (w, h) = (
+            int(f[2], path, no, "width")?,
+            int(f[3], path, no, "height")?,
+        );
+        if w != map.width() as i64 || h != map.height() as i64 {
+            return Err(Error::parse(
+                path,
+                no,
+                format!(
+                    "scenario is for a {w}x{h} map but the map is {}x{}",
+                    map.width(),
+                    map.height()
+                ),
+            ));
+        }
+        out.push(Entry {
+            line: no,
+            start: (
+                int(f[4], path, no, "start x")?,
+                int(f[5], path, no, "start y")?,
+            ),
+            goal: (
+                int(f[6], path, no, "goal x")?,
+                int(f[7], path, no, "goal y")?,
+            ),
+        });
+    }
+    Ok(out)
+}
+
+fn parse_robots(text: &str, path: &Path) -> Result<Vec<Entry>> {
+    let mut out = Vec::new();
+    for (i, raw) in text.lines().enumerate() {
+        let no = i + 1;
+        let line = raw.trim();
+        if line.is_empty() || line.starts_with('#') {
+            continue;
+        }
+        let bad = || Error::parse(path, no, format!("expected `x,y;x,y`, found `{line}`"));
+        let (s, g) = line.split_once(';').ok_or_else(bad)?;
+        let pair = |p: &str| -> Result<(i64, i64)> {
+            let (x, y) = p.split_once(',').ok_or_else(bad)?;
+            Ok((int(x, path, no, "x")?, int(y, path, no, "y")?))
+        };
+        out.push(Entry {
+            line: no,
+            start: pair(s)?,
+            goal: pair(g)?,
+        });
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn map() -> GridMap {
+        GridMap::parse("#####\n#   #\n# # #\n#   #\n#####", Path::new("m.txt"))
+            .unwrap()
+            .0
+    }
+
+    #[test]
+    fn robot_file_parses_with_comments() {
+        let m = map();
+        let inst = parse_agents(
+            "# Room 0\r\n1,1;3,3\r\n\r\n3,1;1,3",
+            Path::new("r.txt"),
+            &m,
+            None,
+        )
+        .unwrap();
+        assert_eq!(inst.num_agents(), 2);
+        assert_eq!(m.cell(inst.starts[1]), (3, 1));
+        assert_eq!(m.cell(inst.goals[0]), (3, 3));
+    }
+
+    #[test]
+    fn scen_takes_first_n() {
+        let m = map();
+        let text = "version 1\n0\tm.map\t5\t5\t1\t1\t3\t3\t4\n0\tm.map\t5\t5\t3\t1\t1\t3\t4\n";
+        let inst = parse_agents(text, Path::new("s.scen"), &m, Some(1)).unwrap();
+        assert_eq!(inst.num_agents(), 1);
+        let err = parse_agents(text, Path::new("s.scen"), &m, Some(3))
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("only 2"), "{err}");
+    }
+
+    #[test]
+    fn wall_off_map_and_duplicates_are_named() {
+        let m = map();
+        let e = parse_agents("1,1;2,2", Path::new("r.txt"), &m, None)
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("r.txt:1:") && e.contains("wall"), "{e}");
+        let e = parse_agents("1,1;3,3\n9,1;1,3", Path::new("r.txt"), &m, None)
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("r.txt:2:") && e.contains("off"), "{e}");
+        let e = parse_agents("1,1;3,3\n1,1;1,3", Path::new("r.txt"), &m, None)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("line 1"), "{e}");
+        let e = parse_agents("1,1;3,3\n1;1,3", Path::new("r.txt"), &m, None)
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("r.txt:2:"), "{e}");
+    }
+}
