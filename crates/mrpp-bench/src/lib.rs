@@ -1,4 +1,13 @@
-//! mrpp-bench: the run harness (jobs -> validated run records, shard and merge) and the paper
-//! tables built on it ([`papers`]).
+//! mrpp-bench: the run harness ([`harness`]: jobs -> validated run records in one schema, shards
+//! and their merge, output manifests), the report helpers ([`report`]: CSV, SVG figures), the
+//! paper tables built on the harness ([`papers`]) and sweeps described as data ([`sweep`]:
+//! MovingAI maps x scenarios x agent counts x planners x runs, from TOML or flags).
+//!
+//! Nothing here prints or writes files: the binary shows progress and writes what these return.
 
+pub mod harness;
 pub mod papers;
+pub mod report;
+pub mod sweep;
+
+pub use harness::{Manifest, RunRecord, Shard, Sweep};

@@ -1,22 +1,20 @@
-//! `mrpp experiment ...`: runs a paper's table, shows progress, writes CSV, Markdown and SVG.
+//! `mrpp experiment ...`: a paper's table as a sweep on the harness (`mrpp-bench`): the flags
+//! become the sweep, [`crate::sweeps::drive`] runs it (whole or one `--shard i/N`) and writes its
+//! files. No presentation lives here: tables and figures come from `mrpp-bench`.
 
+use std::ops::RangeInclusive;
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use clap::{Subcommand, ValueEnum};
-use indicatif::{ProgressBar, ProgressStyle};
 
+use mrpp_bench::Shard;
+use mrpp_bench::papers::gp_trees::{GpExperimentConfig, GpTable3, GpTable4, GpTable5};
 use mrpp_bench::papers::hstar_instances::Scenario2Map;
-use mrpp_bench::papers::hstar_table2::{
-    LoadedInstance, RunRow, Table2Config, job_count, load_paper_table2, load_table1,
-    render_table2_markdown, run_table2, summarize, table2_methods,
-};
-use mrpp_core::mapf::plan_file::RunInfo;
-use mrpp_core::mapf::search::distance::lower_bounds;
-use mrpp_grid::io::plan_json::grid_envelope;
+use mrpp_bench::papers::hstar_table2::{Table2, Table2Config, table2_methods};
 
-use crate::output::{Fail, write_atomic};
-use crate::plots::{Panel, Series, line_panels};
+use crate::output::{Fail, time_limit};
+use crate::sweeps::{Mode, drive};
 
 #[derive(Clone, Copy, ValueEnum)]
 pub enum Sc2Map {
@@ -37,11 +35,11 @@ pub enum Experiment {
     /// Table II of the H* paper: Enol2023, WHCA*, NSGA-III and H* on Table I's instances.
     HstarTable2(HstarTable2Args),
     /// Table 3 of the GP paper: a program evolved per tree problem vs Push-Swap-Wait.
-    GpTable3(crate::gp_experiment::GpTable3Args),
+    GpTable3(GpTable3Args),
     /// Table 4 of the GP paper: programs trained on |X| problems, tested on new ones, vs PSW.
-    GpTable4(crate::gp_experiment::GpTable4Args),
+    GpTable4(GpTable4Args),
     /// Table 5 of the GP paper: % solved by GP and PSW with 0.25–1.5 × leaves robots.
-    GpTable5(crate::gp_experiment::GpTable5Args),
+    GpTable5(GpTable5Args),
 }
 
 #[derive(clap::Args)]
@@ -71,57 +69,145 @@ pub struct HstarTable2Args {
     /// Enol2023's collision count: intended, or inverted as in the authors' code.
     #[arg(long, value_enum, default_value_t = Fitness::Intended)]
     coevolution_fitness: Fitness,
+    /// Run only shard i of N (`i/N`); `mrpp bench merge` joins the parts.
+    #[arg(long)]
+    shard: Option<Shard>,
 }
 
-pub fn run(cmd: Experiment) -> Result<u8, Fail> {
+/// What the three experiments share.
+#[derive(clap::Args)]
+pub struct GpCommon {
+    /// Problems: Table 3 — problems (default 100, paper 1000); Table 4 — test problems per trial
+    /// (default 50, paper 100); Table 5 — problems per leaf multiplier (default 40, paper 200).
+    #[arg(long)]
+    problems: Option<usize>,
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// GP parameters; `--paper-settings` also sets the paper's problem counts (days of CPU time
+    /// on 2 cores).
+    #[command(flatten)]
+    gp: crate::tree_family::GpParamArgs,
+    /// Wall-clock bound of one evolution in seconds (ψ* so far is kept; makes results depend on
+    /// the machine, so it is off by default).
+    #[arg(long)]
+    evolve_time_limit: Option<f64>,
+    /// Wall-clock bound, in seconds, of one PSW run or one run of a program on a test problem.
+    #[arg(long, default_value_t = 60.0)]
+    run_time_limit: f64,
+    /// Depth budgets of the generated trees, `MIN-MAX` (default 3-4, trees of the paper's scale;
+    /// with --paper-settings the paper's 4-10, and 4-9 for Table 4's test problems).
+    #[arg(long, value_parser = parse_depths)]
+    depths: Option<RangeInclusive<u32>>,
+    /// Output directory (default out/gp-tableN).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Run only shard i of N (`i/N`); `mrpp bench merge` joins the parts.
+    #[arg(long)]
+    shard: Option<Shard>,
+}
+
+fn parse_depths(s: &str) -> Result<RangeInclusive<u32>, String> {
+    let bad = || format!("expected MIN-MAX with 1 <= MIN <= MAX <= 12, got `{s}`");
+    let (a, b) = s.split_once('-').ok_or_else(bad)?;
+    let (a, b): (u32, u32) = (
+        a.trim().parse().map_err(|_| bad())?,
+        b.trim().parse().map_err(|_| bad())?,
+    );
+    if (1..=b).contains(&a) && b <= 12 {
+        Ok(a..=b)
+    } else {
+        Err(bad())
+    }
+}
+
+#[derive(clap::Args)]
+pub struct GpTable3Args {
+    #[command(flatten)]
+    common: GpCommon,
+}
+
+#[derive(clap::Args)]
+pub struct GpTable4Args {
+    #[command(flatten)]
+    common: GpCommon,
+    /// Training-set sizes |X|.
+    #[arg(long, value_delimiter = ',', default_value = "5,10,20")]
+    train_sizes: Vec<usize>,
+    /// Trials per |X| (default 2, paper 10).
+    #[arg(long)]
+    trials: Option<usize>,
+}
+
+#[derive(clap::Args)]
+pub struct GpTable5Args {
+    #[command(flatten)]
+    common: GpCommon,
+    /// Leaf multipliers l_m: ⌊l_m · #leaves⌋ robots.
+    #[arg(long, value_delimiter = ',', default_value = "0.25,0.5,1.0,1.5")]
+    multipliers: Vec<f64>,
+}
+
+/// Runs (or, with `merge`, joins the parts of) an experiment.
+pub fn run(cmd: Experiment, merge: Option<Mode>) -> Result<u8, Fail> {
     match cmd {
-        Experiment::HstarTable2(args) => hstar_table2(&args),
-        Experiment::GpTable3(args) => crate::gp_experiment::table3(&args),
-        Experiment::GpTable4(args) => crate::gp_experiment::table4(&args),
-        Experiment::GpTable5(args) => crate::gp_experiment::table5(&args),
+        Experiment::HstarTable2(a) => {
+            let mode = merge.unwrap_or(Mode::run(a.shard, a.out.clone()));
+            drive(&hstar_table2(&a)?, &mode, a.seed, "runs")
+        }
+        Experiment::GpTable3(a) => {
+            let (cfg, n) = a.common.config(100, 1000)?;
+            let mode = merge.unwrap_or(Mode::run(a.common.shard, a.common.out("gp-table3")));
+            drive(&GpTable3::new(cfg, n)?, &mode, a.common.seed, "problems")
+        }
+        Experiment::GpTable4(a) => {
+            let sweep = gp_table4(&a)?;
+            let mode = merge.unwrap_or(Mode::run(a.common.shard, a.common.out("gp-table4")));
+            drive(&sweep, &mode, a.common.seed, "trainings")
+        }
+        Experiment::GpTable5(a) => {
+            let (cfg, n) = a.common.config(40, 200)?;
+            if a.multipliers.is_empty() {
+                return Err(Fail("--multipliers needs at least one value".into()));
+            }
+            let mode = merge.unwrap_or(Mode::run(a.common.shard, a.common.out("gp-table5")));
+            drive(
+                &GpTable5::new(cfg, a.multipliers.clone(), n)?,
+                &mode,
+                a.common.seed,
+                "problems",
+            )
+        }
     }
 }
 
-fn hstar_table2(args: &HstarTable2Args) -> Result<u8, Fail> {
-    let HstarTable2Args {
-        runs,
-        seed,
-        ref out,
-        save_plans,
-        ref data,
-        sc2_map,
-        time_limit,
-        ref planners,
-        coevolution_fitness,
-    } = *args;
-    if !(1..=1000).contains(&runs) {
+/// Table II from its flags.
+fn hstar_table2(a: &HstarTable2Args) -> Result<Table2, Fail> {
+    if !(1..=1000).contains(&a.runs) {
         return Err(Fail(format!(
-            "--runs must be between 1 and 1000, got {runs}"
+            "--runs must be between 1 and 1000, got {}",
+            a.runs
         )));
     }
-    if !(time_limit.is_finite() && time_limit > 0.0 && time_limit <= 1e6) {
-        return Err(Fail(format!(
-            "--time-limit must be a positive number of seconds, got {time_limit}"
-        )));
-    }
-    if !data.join("scenario1").is_dir() {
+    let limit = time_limit(a.time_limit)?;
+    if !a.data.join("scenario1").is_dir() {
         return Err(Fail(format!(
             "{}: no scenario1/ here; pass --data with the directory of the H* paper's files (the repository's data/hstar-paper)",
-            data.display()
+            a.data.display()
         )));
     }
     let mut methods = table2_methods();
-    if let Some(keep) = &planners {
-        for k in keep {
-            if !methods.iter().any(|m| m.planner == k) {
-                return Err(Fail(format!(
-                    "--planners: unknown planner `{k}` (known: coevolution, whca, nsga3, hstar)"
-                )));
-            }
+    if let Some(keep) = &a.planners {
+        if let Some(k) = keep
+            .iter()
+            .find(|k| !methods.iter().any(|m| m.planner == k.as_str()))
+        {
+            return Err(Fail(format!(
+                "--planners: unknown planner `{k}` (known: coevolution, whca, nsga3, hstar)"
+            )));
         }
         methods.retain(|m| keep.iter().any(|k| k == m.planner));
     }
-    if let Fitness::Inverted = coevolution_fitness {
+    if let Fitness::Inverted = a.coevolution_fitness {
         for m in methods
             .iter_mut()
             .filter(|m| m.planner == mrpp_grid::coevolution::NAME)
@@ -129,309 +215,88 @@ fn hstar_table2(args: &HstarTable2Args) -> Result<u8, Fail> {
             m.params.push(("variant".into(), "inverted".into()));
         }
     }
-    let scenario2_map = match sc2_map {
-        Sc2Map::Open => Scenario2Map::OpenRooms,
-        Sc2Map::Obstacles => Scenario2Map::ObstacleRooms,
-    };
     let cfg = Table2Config {
-        runs,
-        seed,
-        scenario2_map,
+        runs: a.runs,
+        seed: a.seed,
+        scenario2_map: match a.sc2_map {
+            Sc2Map::Open => Scenario2Map::OpenRooms,
+            Sc2Map::Obstacles => Scenario2Map::ObstacleRooms,
+        },
         methods,
-        time_limit: Duration::from_secs_f64(time_limit),
+        time_limit: limit,
+        save_plans: a.save_plans,
     };
-    let paper = load_paper_table2(&data.join("table2-paper.csv"))?;
-    let instances = load_table1(data, scenario2_map)?;
-    std::fs::create_dir_all(out)
-        .map_err(|e| Fail(format!("{}: cannot create: {e}", out.display())))?;
-
-    let jobs = job_count(&instances, &cfg);
-    println!(
-        "mrpp {} | experiment hstar-table2 | seed {seed} | runs {runs} | {} instances x {} methods = {jobs} jobs | threads {}",
-        env!("CARGO_PKG_VERSION"),
-        instances.len(),
-        cfg.methods.len(),
-        rayon_threads()
-    );
-    let bar = ProgressBar::new(jobs as u64);
-    bar.set_style(
-        ProgressStyle::with_template(
-            "{bar:40} {pos}/{len} runs  {elapsed_precise} (eta {eta})  {msg}",
-        )
-        .expect("static template"),
-    );
-    let started = Instant::now();
-    let rows = run_table2(&instances, &cfg, &|row: &RunRow| {
-        bar.set_message(format!("SC{} {} {}", row.scenario, row.label, row.planner));
-        bar.inc(1);
-    })?;
-    bar.finish_and_clear();
-    let wall = started.elapsed().as_secs_f64();
-
-    write_atomic(&out.join("results.csv"), &results_csv(&rows)?)?;
-    let command = format!(
-        "mrpp experiment hstar-table2 --runs {runs} --seed {seed} --sc2-map {} --time-limit {time_limit} --coevolution-fitness {}{}",
-        match sc2_map {
-            Sc2Map::Open => "open",
-            Sc2Map::Obstacles => "obstacles",
-        },
-        match coevolution_fitness {
-            Fitness::Intended => "intended",
-            Fitness::Inverted => "inverted",
-        },
-        planners
-            .as_ref()
-            .map(|p| format!(" --planners {}", p.join(",")))
-            .unwrap_or_default()
-    );
-    let md = table2_page(&instances, &rows, &cfg, &paper, &command, wall);
-    write_atomic(&out.join("table2.md"), &md)?;
-    write_atomic(
-        &out.join("fig5.svg"),
-        &fig5(&instances, &rows, &cfg, &paper)?,
-    )?;
-    if save_plans {
-        let dir = out.join("plans");
-        std::fs::create_dir_all(&dir)
-            .map_err(|e| Fail(format!("{}: cannot create: {e}", dir.display())))?;
-        for row in rows.iter().filter(|r| r.solved) {
-            let li = instances
-                .iter()
-                .find(|li| li.info.scenario == row.scenario && li.info.robots == row.robots)
-                .expect("row of a loaded instance");
-            let solved = row.plan.clone().expect("solved rows carry their plan");
-            let map_file = li
-                .info
-                .map
-                .file_name()
-                .map(|n| n.to_string_lossy().into_owned())
-                .unwrap_or_default();
-            let info = RunInfo {
-                planner: row.planner.clone(),
-                seed: row.seed,
-                runtime_ms: row.runtime_ms,
-                ..RunInfo::default()
-            };
-            let file = grid_envelope(&li.map, &map_file, &li.problem, info, &Ok(solved));
-            let name = format!(
-                "{}-{}-{}-{}.json",
-                row.scenario, row.robots, row.planner, row.run
-            );
-            write_atomic(&dir.join(name), &file.to_json())?;
-        }
-    }
-    let solved = rows.iter().filter(|r| r.solved).count();
-    println!(
-        "{solved}/{} runs solved in {wall:.1} s; wrote {}/results.csv, table2.md, fig5.svg{}",
-        rows.len(),
-        out.display(),
-        if save_plans { ", plans/" } else { "" }
-    );
-    Ok(0)
+    Ok(Table2::new(cfg, &a.data)?)
 }
 
-pub(crate) fn rayon_threads() -> usize {
-    std::thread::available_parallelism()
-        .map(|n| n.get())
-        .unwrap_or(1)
-        .min(
-            std::env::var("RAYON_NUM_THREADS")
-                .ok()
-                .and_then(|v| v.parse().ok())
-                .unwrap_or(usize::MAX),
-        )
+/// Table 4 from its flags.
+fn gp_table4(a: &GpTable4Args) -> Result<GpTable4, Fail> {
+    let (cfg, tests) = a.common.config(50, 100)?;
+    let trials = a
+        .trials
+        .unwrap_or(if a.common.gp.paper_settings { 10 } else { 2 });
+    if !(1..=1000).contains(&trials) {
+        return Err(Fail(format!(
+            "--trials must be between 1 and 1000, got {trials}"
+        )));
+    }
+    if a.train_sizes.is_empty() || a.train_sizes.iter().any(|&x| !(1..=1000).contains(&x)) {
+        return Err(Fail(format!(
+            "--train-sizes must be between 1 and 1000, got {:?}",
+            a.train_sizes
+        )));
+    }
+    Ok(GpTable4::new(cfg, a.train_sizes.clone(), trials, tests)?)
 }
 
-fn results_csv(rows: &[RunRow]) -> Result<String, Fail> {
-    let mut w = csv::Writer::from_writer(Vec::new());
-    w.write_record([
-        "scenario",
-        "robots",
-        "planner",
-        "run",
-        "seed",
-        "solved",
-        "max",
-        "sum",
-        "runtime_ms",
-    ])?;
-    for r in rows {
-        w.write_record([
-            r.scenario.to_string(),
-            r.robots.to_string(),
-            r.planner.clone(),
-            r.run.to_string(),
-            r.seed.to_string(),
-            r.solved.to_string(),
-            r.max.map(|v| v.to_string()).unwrap_or_default(),
-            r.sum.map(|v| v.to_string()).unwrap_or_default(),
-            format!("{:.3}", r.runtime_ms),
-        ])?;
+fn positive_seconds(what: &str, s: f64) -> Result<Duration, Fail> {
+    if s.is_finite() && s > 0.0 && s <= 1e7 {
+        Ok(Duration::from_secs_f64(s))
+    } else {
+        Err(Fail(format!(
+            "--{what} must be a positive number of seconds, got {s}"
+        )))
     }
-    String::from_utf8(w.into_inner().map_err(|e| Fail(e.to_string()))?)
-        .map_err(|e| Fail(e.to_string()))
 }
 
-fn table2_page(
-    instances: &[LoadedInstance],
-    rows: &[RunRow],
-    cfg: &Table2Config,
-    paper: &[mrpp_bench::papers::hstar_table2::PaperCell],
-    command: &str,
-    wall: f64,
-) -> String {
-    let mut s = String::new();
-    s.push_str("# H* paper, Table II: Max / Sum of path lengths\n\n");
-    s.push_str(&format!(
-        "`{command}` — mrpp {}, {} runs per cell, wall time {wall:.1} s.\n\n",
-        env!("CARGO_PKG_VERSION"),
-        cfg.runs
-    ));
-    s.push_str(
-        "Ours: mean makespan / mean sum of costs (waits count) over the runs that returned a valid plan; \
-         `(k/R)` when only k of R runs did; empty when none did. Paper: its Table II (empty = paths with collisions).\n\n",
-    );
-    s.push_str(&render_table2_markdown(
-        instances,
-        rows,
-        &cfg.methods,
-        paper,
-    ));
-    s.push_str(
-        "\nLower bounds (each robot's shortest distance, others ignored); Enol2023's stage-1 routes \
-         (A* with private obstacles, before co-evolution: Max / Sum and the number of robot pairs still \
-         in conflict); mean runtime of our runs:\n\n",
-    );
-    s.push_str("| SC | robots | LB Max / Sum | Enol2023 stage 1 |");
-    for m in &cfg.methods {
-        s.push_str(&format!(" {} ms |", m.column));
-    }
-    s.push_str("\n|---|---|---|---|");
-    for _ in &cfg.methods {
-        s.push_str("---|");
-    }
-    s.push('\n');
-    for li in instances {
-        let lb = lower_bounds(li.map.graph(), &li.inst.starts, &li.inst.goals)
-            .map(|(sum, max)| format!("{max} / {sum}"))
-            .unwrap_or_else(|i| format!("agent {i} cannot reach its goal"));
-        s.push_str(&format!(
-            "| {} | {} | {lb} | {} |",
-            li.info.scenario,
-            li.info.label,
-            stage1(li)
-        ));
-        for m in &cfg.methods {
-            let times: Vec<f64> = rows
-                .iter()
-                .filter(|r| {
-                    r.scenario == li.info.scenario
-                        && r.robots == li.info.robots
-                        && r.column == m.column
-                })
-                .map(|r| r.runtime_ms)
-                .collect();
-            let mean = times.iter().sum::<f64>() / times.len().max(1) as f64;
-            s.push_str(&format!(" {mean:.1} |"));
-        }
-        s.push('\n');
-    }
-    s
-}
-
-/// Enol2023's stage 1 alone: the A* routes with private obstacles, as Max / Sum (arrival steps) and
-/// how many robot pairs still conflict.
-fn stage1(li: &LoadedInstance) -> String {
-    use mrpp_grid::coevolution::{Coevolution, astar_with_private_obstacles, route_conflict};
-    let g = li.map.graph();
-    let Ok(stage) = astar_with_private_obstacles(
-        g,
-        &li.inst,
-        &Coevolution::default(),
-        mrpp_core::contract::Deadline::none(),
-    ) else {
-        return String::new();
-    };
-    let lengths: Vec<usize> = stage
-        .routes
-        .iter()
-        .zip(&li.inst.goals)
-        .map(|(r, &goal)| {
-            mrpp_core::mapf::plan::path_cost(r, goal, mrpp_core::GoalSemantics::Stay)
-                .unwrap_or(r.len() - 1)
-        })
-        .collect();
-    let n = stage.routes.len();
-    let pairs = (0..n)
-        .flat_map(|a| (a + 1..n).map(move |b| (a, b)))
-        .filter(|&(a, b)| route_conflict(&stage.routes[a], &stage.routes[b]).is_some())
-        .count();
-    format!(
-        "{} / {}, {pairs} pairs",
-        lengths.iter().max().unwrap_or(&0),
-        lengths.iter().sum::<usize>()
-    )
-}
-
-fn fig5(
-    instances: &[LoadedInstance],
-    rows: &[RunRow],
-    cfg: &Table2Config,
-    paper: &[mrpp_bench::papers::hstar_table2::PaperCell],
-) -> Result<String, Fail> {
-    let mut panels = Vec::new();
-    for sc in 1..=3u8 {
-        let here: Vec<&LoadedInstance> = instances
-            .iter()
-            .filter(|li| li.info.scenario == sc)
-            .collect();
-        let mut series = Vec::new();
-        for m in &cfg.methods {
-            let points: Vec<(f64, f64)> = here
-                .iter()
-                .filter_map(|li| {
-                    let c = summarize(rows, sc, li.info.robots, &m.column);
-                    c.mean_sum
-                        .map(|s| (li.info.robots as f64, s / li.info.robots as f64))
-                })
-                .collect();
-            series.push(Series {
-                name: m.column.clone(),
-                points,
-                paper: false,
-                ..Series::default()
-            });
-            let paper_points: Vec<(f64, f64)> = here
-                .iter()
-                .filter_map(|li| {
-                    paper
-                        .iter()
-                        .find(|p| {
-                            p.scenario == sc && p.robots == li.info.robots && p.column == m.column
-                        })
-                        .and_then(|p| p.max_sum)
-                        .map(|(_, sum)| (li.info.robots as f64, sum / li.info.robots as f64))
-                })
-                .collect();
-            if !paper_points.is_empty() {
-                series.push(Series {
-                    name: format!("{} (paper)", m.column),
-                    points: paper_points,
-                    paper: true,
-                    ..Series::default()
-                });
-            }
-        }
-        panels.push(Panel {
-            title: format!("Scenario {sc}"),
-            series,
+impl GpCommon {
+    /// The configuration and the problem count (`default` / `paper` when not given).
+    fn config(&self, default: usize, paper: usize) -> Result<(GpExperimentConfig, usize), Fail> {
+        let base = if self.gp.paper_settings {
+            GpExperimentConfig::paper()
+        } else {
+            GpExperimentConfig::scaled_down()
+        };
+        let params = self.gp.params_over(base.params.clone(), true)?;
+        let problems = self.problems.unwrap_or(if self.gp.paper_settings {
+            paper
+        } else {
+            default
         });
+        if !(1..=100_000).contains(&problems) {
+            return Err(Fail(format!(
+                "--problems must be between 1 and 100000, got {problems}"
+            )));
+        }
+        let cfg = GpExperimentConfig {
+            train_depths: self.depths.clone().unwrap_or(base.train_depths.clone()),
+            test_depths: self.depths.clone().unwrap_or(base.test_depths.clone()),
+            seed: self.seed,
+            params,
+            run_time_limit: positive_seconds("run-time-limit", self.run_time_limit)?,
+            evolve_time_limit: self
+                .evolve_time_limit
+                .map(|s| positive_seconds("evolve-time-limit", s))
+                .transpose()?,
+            ..base
+        };
+        Ok((cfg, problems))
     }
-    line_panels(
-        "Average path length per robot (Sum / robots); lines: mrpp, circles: paper",
-        "robots",
-        "average path length",
-        &panels,
-    )
-    .map_err(Fail)
+
+    /// The output folder (default `out/<name>`).
+    fn out(&self, name: &str) -> PathBuf {
+        self.out
+            .clone()
+            .unwrap_or_else(|| PathBuf::from(format!("out/{name}")))
+    }
 }

@@ -8,13 +8,13 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 
+mod bench;
 mod experiment;
 mod family;
-mod gp_experiment;
 mod grid_family;
 mod output;
-mod plots;
 mod progress;
+mod sweeps;
 #[cfg(test)]
 mod toy_family;
 mod tree_family;
@@ -58,9 +58,12 @@ enum Command {
         #[command(flatten)]
         inputs: Inputs,
     },
-    /// Reproduce a paper's table (see docs/reproduction/).
+    /// Reproduce a paper's table (see docs/reproduction/); `--shard i/N` runs one part.
     #[command(subcommand)]
     Experiment(experiment::Experiment),
+    /// Benchmark sweeps: `bench run` (TOML config or flags, `--shard i/N`), `bench merge`.
+    #[command(subcommand)]
+    Bench(bench::Bench),
     /// Single-lane tree problems: generate, solve (PSW or GP), run a GP program, validate.
     #[command(subcommand)]
     Trees(tree_family::Trees),
@@ -159,7 +162,29 @@ fn run(command: Command) -> Result<u8, Fail> {
         Command::Planners { family } => family::list_planners(family.as_deref()),
         Command::Info { inputs } => verbs::info(&inputs),
         Command::Render { inputs, plan, out } => verbs::render(&inputs, &plan, &out),
-        Command::Experiment(e) => experiment::run(e),
+        Command::Experiment(e) => experiment::run(e, None),
+        Command::Bench(bench::Bench::Run(a)) => bench::run(a, None),
+        Command::Bench(bench::Bench::Merge { out, parts }) => merge(out, parts),
         Command::Trees(t) => tree_family::run(t),
+    }
+}
+
+/// `mrpp bench merge`: rebuilds the sweep from the command its parts recorded, then joins them.
+fn merge(out: PathBuf, parts: Vec<PathBuf>) -> Result<u8, Fail> {
+    let manifest = mrpp_bench::harness::merged_manifest(&parts)?;
+    let argv = std::iter::once("mrpp".to_string()).chain(manifest.sweep_command());
+    let cli = Cli::try_parse_from(argv)
+        .map_err(|e| Fail(format!("the parts' command does not parse any more: {e}")))?;
+    let mode = sweeps::Mode::Merge {
+        parts,
+        manifest: Box::new(manifest),
+        out,
+    };
+    match cli.command {
+        Command::Experiment(e) => experiment::run(e, Some(mode)),
+        Command::Bench(bench::Bench::Run(a)) => bench::run(a, Some(mode)),
+        _ => Err(Fail(
+            "the parts were not made by `mrpp experiment` or `mrpp bench run`".into(),
+        )),
     }
 }

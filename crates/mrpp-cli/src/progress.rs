@@ -31,3 +31,54 @@ pub(crate) fn callback(bar: &ProgressBar) -> ProgressFn {
         bar.set_message(p.note.clone());
     })
 }
+
+/// Progress of a sweep on stderr: an indicatif bar on a terminal; otherwise (a log file, CI, a
+/// Slurm job) one plain line per finished job, so long batch runs still show where they are.
+pub(crate) struct Jobs {
+    bar: ProgressBar,
+    plain: bool,
+    len: usize,
+    unit: &'static str,
+    done: std::sync::atomic::AtomicUsize,
+    started: std::time::Instant,
+}
+
+impl Jobs {
+    pub(crate) fn new(len: usize, unit: &'static str) -> Self {
+        let bar = ProgressBar::new(len as u64);
+        bar.set_style(
+            ProgressStyle::with_template(&format!(
+                "{{bar:40}} {{pos}}/{{len}} {unit}  {{elapsed_precise}} (eta {{eta}})  {{msg}}"
+            ))
+            .expect("static template"),
+        );
+        Jobs {
+            bar,
+            plain: !std::io::IsTerminal::is_terminal(&std::io::stderr()),
+            len,
+            unit,
+            done: std::sync::atomic::AtomicUsize::new(0),
+            started: std::time::Instant::now(),
+        }
+    }
+
+    /// One job finished (`key` names it).
+    pub(crate) fn tick(&self, key: &str) {
+        let k = self.done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+        if self.plain {
+            eprintln!(
+                "[{:.0} s] {k}/{} {}: {key}",
+                self.started.elapsed().as_secs_f64(),
+                self.len,
+                self.unit
+            );
+        } else {
+            self.bar.set_message(key.to_string());
+            self.bar.inc(1);
+        }
+    }
+
+    pub(crate) fn finish(&self) {
+        self.bar.finish_and_clear();
+    }
+}

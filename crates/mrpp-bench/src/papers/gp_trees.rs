@@ -27,6 +27,10 @@ use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
 
+use serde::{Deserialize, Serialize};
+
+use crate::harness::{Manifest, RunRecord, Sweep, params_text};
+use crate::papers::gp_pages;
 use mrpp_core::error::{Error, Result};
 use mrpp_core::mapf::plan::Plan;
 use mrpp_core::seeds::derive_seed;
@@ -208,7 +212,7 @@ pub fn verdict(gp: Option<u64>, psw: Option<u64>) -> Verdict {
 }
 
 /// One problem of Table 3 or Table 5: a program evolved for it, and PSW.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct ProblemRow {
     /// Leaf multiplier (Table 5), `None` for #leaves − 1 robots (Table 3).
     pub multiplier: Option<f64>,
@@ -284,57 +288,6 @@ fn per_problem(
     Ok(row)
 }
 
-/// Table 3 (§7.2): `problems` problems with #leaves − 1 robots, a program evolved for each.
-/// `done` is called (from any thread) after each problem.
-pub fn run_table3(
-    cfg: &GpExperimentConfig,
-    problems: usize,
-    done: &(dyn Fn(&ProblemRow) + Sync),
-) -> Result<Vec<ProblemRow>> {
-    cfg.params.check()?;
-    (0..problems)
-        .into_par_iter()
-        .map(|i| {
-            let row = per_problem(cfg, "table3", i, RobotCount::LeavesMinusOne, None)?;
-            done(&row);
-            Ok(row)
-        })
-        .collect()
-}
-
-/// Table 5 (§7.4): for each leaf multiplier, `problems` problems with ⌊m · #leaves⌋ robots
-/// (capped at |N| − 2).
-pub fn run_table5(
-    cfg: &GpExperimentConfig,
-    multipliers: &[f64],
-    problems: usize,
-    done: &(dyn Fn(&ProblemRow) + Sync),
-) -> Result<Vec<ProblemRow>> {
-    cfg.params.check()?;
-    if let Some(m) = multipliers.iter().find(|m| !(m.is_finite() && **m > 0.0)) {
-        return Err(Error::Param(format!(
-            "leaf multipliers must be positive, got {m}"
-        )));
-    }
-    let jobs: Vec<(f64, usize)> = multipliers
-        .iter()
-        .flat_map(|&m| (0..problems).map(move |i| (m, i)))
-        .collect();
-    jobs.into_par_iter()
-        .map(|(m, i)| {
-            let row = per_problem(
-                cfg,
-                &format!("table5/{m}"),
-                i,
-                RobotCount::PerLeaf(m),
-                Some(m),
-            )?;
-            done(&row);
-            Ok(row)
-        })
-        .collect()
-}
-
 /// Better / equal / worse shares and totals of a set of per-problem rows.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct Comparison {
@@ -383,7 +336,7 @@ impl Comparison {
 }
 
 /// One (|X|, trial) of Table 4: the program trained on |X| problems.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TrainedProgram {
     pub train_size: usize,
     pub trial: usize,
@@ -396,7 +349,7 @@ pub struct TrainedProgram {
 }
 
 /// One test problem of Table 4.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TestRow {
     pub train_size: usize,
     pub trial: usize,
@@ -410,96 +363,303 @@ pub struct TestRow {
     pub gp_steps: Option<u64>,
 }
 
-/// Table 4 (§7.3): for each |X| in `train_sizes` and each of `trials` trials, a program evolved on
-/// |X| training problems is run on `tests` new problems. `done` is called after each trial.
-pub fn run_table4(
+/// One (|X|, trial) of Table 4 (§7.3): a program evolved on |X| training problems, run on
+/// `tests` new problems beside PSW.
+fn table4_trial(
     cfg: &GpExperimentConfig,
-    train_sizes: &[usize],
-    trials: usize,
+    x: usize,
+    trial: usize,
     tests: usize,
-    done: &(dyn Fn(&TrainedProgram) + Sync),
-) -> Result<(Vec<TrainedProgram>, Vec<TestRow>)> {
-    cfg.params.check()?;
-    if train_sizes.contains(&0) {
-        return Err(Error::Param(
-            "a training set needs at least 1 problem".into(),
-        ));
-    }
-    let jobs: Vec<(usize, usize)> = train_sizes
-        .iter()
-        .flat_map(|&x| (0..trials).map(move |t| (x, t)))
-        .collect();
-    let results: Vec<(TrainedProgram, Vec<TestRow>)> = jobs
-        .into_par_iter()
-        .map(|(x, trial)| {
-            let key = format!("table4/{x}/{trial}");
-            let training: Vec<Problem> = (0..x)
-                .map(|j| {
-                    draw_problem(
-                        cfg.seed,
-                        &format!("{key}/train"),
-                        j,
-                        &cfg.train_depths,
-                        RobotCount::LeavesMinusOne,
-                    )
-                    .map(|(_, t)| Problem::from_tree_instance(&t))
-                })
-                .collect::<Result<_>>()?;
-            let started = Instant::now();
-            let deadline = cfg
-                .evolve_time_limit
-                .map_or_else(Deadline::none, Deadline::after);
-            let r = evolve(
-                &training,
-                &cfg.params,
-                derive_seed(cfg.seed, &format!("{key}/gp")),
-                deadline,
-                &mut |_| {},
-            )?;
-            let solved_training_set = r.best.is_some();
-            let program = r.best.clone().unwrap_or_else(|| r.champion.clone());
-            let trained = TrainedProgram {
-                train_size: x,
-                trial,
-                program: program.to_string(),
-                solved_training_set,
-                generations: r.generations,
-                evaluations: r.evaluations,
-                seconds: started.elapsed().as_secs_f64(),
-            };
-            let rows = (0..tests)
-                .into_par_iter()
-                .map(|i| {
-                    let (depth, t) = draw_problem(
-                        cfg.seed,
-                        &format!("{key}/test"),
-                        i,
-                        &cfg.test_depths,
-                        RobotCount::LeavesMinusOne,
-                    )?;
-                    let (psw_steps, psw_swaps) = run_psw(cfg, &t)?;
-                    let problem = Problem::from_tree_instance(&t);
-                    let gp_steps = run_program_on(cfg, &program, &t, &problem)?;
-                    Ok(TestRow {
-                        train_size: x,
-                        trial,
-                        index: i,
-                        depth,
-                        nodes: t.num_nodes(),
-                        robots: t.num_robots(),
-                        lower_bound: problem.lower_bound(),
-                        psw_steps,
-                        psw_swaps,
-                        gp_steps,
-                    })
-                })
-                .collect::<Result<Vec<_>>>()?;
-            done(&trained);
-            Ok((trained, rows))
+) -> Result<Table4Row> {
+    let key = format!("table4/{x}/{trial}");
+    let training: Vec<Problem> = (0..x)
+        .map(|j| {
+            draw_problem(
+                cfg.seed,
+                &format!("{key}/train"),
+                j,
+                &cfg.train_depths,
+                RobotCount::LeavesMinusOne,
+            )
+            .map(|(_, t)| Problem::from_tree_instance(&t))
         })
         .collect::<Result<_>>()?;
-    let (programs, rows): (Vec<_>, Vec<Vec<_>>) = results.into_iter().unzip();
-    Ok((programs, rows.into_iter().flatten().collect()))
+    let started = Instant::now();
+    let deadline = cfg
+        .evolve_time_limit
+        .map_or_else(Deadline::none, Deadline::after);
+    let r = evolve(
+        &training,
+        &cfg.params,
+        derive_seed(cfg.seed, &format!("{key}/gp")),
+        deadline,
+        &mut |_| {},
+    )?;
+    let solved_training_set = r.best.is_some();
+    let program = r.best.clone().unwrap_or_else(|| r.champion.clone());
+    let trained = TrainedProgram {
+        train_size: x,
+        trial,
+        program: program.to_string(),
+        solved_training_set,
+        generations: r.generations,
+        evaluations: r.evaluations,
+        seconds: started.elapsed().as_secs_f64(),
+    };
+    let rows = (0..tests)
+        .into_par_iter()
+        .map(|i| {
+            let (depth, t) = draw_problem(
+                cfg.seed,
+                &format!("{key}/test"),
+                i,
+                &cfg.test_depths,
+                RobotCount::LeavesMinusOne,
+            )?;
+            let (psw_steps, psw_swaps) = run_psw(cfg, &t)?;
+            let problem = Problem::from_tree_instance(&t);
+            let gp_steps = run_program_on(cfg, &program, &t, &problem)?;
+            Ok(TestRow {
+                train_size: x,
+                trial,
+                index: i,
+                depth,
+                nodes: t.num_nodes(),
+                robots: t.num_robots(),
+                lower_bound: problem.lower_bound(),
+                psw_steps,
+                psw_swaps,
+                gp_steps,
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(Table4Row {
+        program: trained,
+        tests: rows,
+    })
+}
+
+/// A row of Table 4: one trained program and its test problems.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Table4Row {
+    pub program: TrainedProgram,
+    pub tests: Vec<TestRow>,
+}
+
+/// Table 3 (§7.2) as a sweep: `problems` problems with #leaves − 1 robots, a program evolved for
+/// each; one job per problem (key `table3/i`).
+pub struct GpTable3 {
+    pub cfg: GpExperimentConfig,
+    jobs: Vec<usize>,
+}
+
+impl GpTable3 {
+    pub fn new(cfg: GpExperimentConfig, problems: usize) -> Result<Self> {
+        cfg.params.check()?;
+        Ok(GpTable3 {
+            cfg,
+            jobs: (0..problems).collect(),
+        })
+    }
+}
+
+/// Table 5 (§7.4) as a sweep: for each leaf multiplier, `problems` problems with ⌊m · #leaves⌋
+/// robots (capped at |N| − 2); one job per (multiplier, problem) (key `table5/m/i`).
+pub struct GpTable5 {
+    pub cfg: GpExperimentConfig,
+    pub multipliers: Vec<f64>,
+    jobs: Vec<(f64, usize)>,
+}
+
+impl GpTable5 {
+    pub fn new(cfg: GpExperimentConfig, multipliers: Vec<f64>, problems: usize) -> Result<Self> {
+        cfg.params.check()?;
+        if let Some(m) = multipliers.iter().find(|m| !(m.is_finite() && **m > 0.0)) {
+            return Err(Error::Param(format!(
+                "leaf multipliers must be positive, got {m}"
+            )));
+        }
+        let jobs = multipliers
+            .iter()
+            .flat_map(|&m| (0..problems).map(move |i| (m, i)))
+            .collect();
+        Ok(GpTable5 {
+            cfg,
+            multipliers,
+            jobs,
+        })
+    }
+}
+
+/// Table 4 (§7.3) as a sweep: for each |X| in `train_sizes` and each of `trials` trials, a program
+/// evolved on |X| training problems is run on `tests` new problems; one job per (|X|, trial)
+/// (key `table4/x/trial`).
+pub struct GpTable4 {
+    pub cfg: GpExperimentConfig,
+    pub train_sizes: Vec<usize>,
+    pub trials: usize,
+    pub tests: usize,
+    jobs: Vec<(usize, usize)>,
+}
+
+impl GpTable4 {
+    pub fn new(
+        cfg: GpExperimentConfig,
+        train_sizes: Vec<usize>,
+        trials: usize,
+        tests: usize,
+    ) -> Result<Self> {
+        cfg.params.check()?;
+        if train_sizes.contains(&0) {
+            return Err(Error::Param(
+                "a training set needs at least 1 problem".into(),
+            ));
+        }
+        let jobs = train_sizes
+            .iter()
+            .flat_map(|&x| (0..trials).map(move |t| (x, t)))
+            .collect();
+        Ok(GpTable4 {
+            cfg,
+            train_sizes,
+            trials,
+            tests,
+            jobs,
+        })
+    }
+}
+
+/// The GP parameters a record names.
+fn gp_params_text(p: &GpParams) -> String {
+    params_text([
+        ("population", p.population.to_string().as_str()),
+        ("generations", p.generations.to_string().as_str()),
+        ("runs", p.runs.to_string().as_str()),
+    ])
+}
+
+/// The two records (PSW, GP) of one problem.
+fn pair_records(
+    instance: String,
+    gp_params: String,
+    psw: Option<u64>,
+    gp: Option<u64>,
+    gp_seconds: f64,
+) -> Vec<RunRecord> {
+    let rec = |planner: &str, params: String, steps: Option<u64>, runtime_ms: f64| RunRecord {
+        job: 0,
+        key: String::new(),
+        family: mrpp_trees::FAMILY.into(),
+        instance: instance.clone(),
+        planner: planner.into(),
+        params,
+        run: 0,
+        seed: 0,
+        status: if steps.is_some() { "solved" } else { "gave_up" }.into(),
+        sum_of_costs: None,
+        makespan: steps,
+        sum_of_moves: None,
+        runtime_ms,
+    };
+    vec![
+        rec(mrpp_trees::psw::NAME, String::new(), psw, 0.0),
+        rec(mrpp_trees::gp::NAME, gp_params, gp, gp_seconds * 1e3),
+    ]
+}
+
+impl Sweep for GpTable3 {
+    type Job = usize;
+    type Row = ProblemRow;
+    fn name(&self) -> &str {
+        "gp-table3"
+    }
+    fn jobs(&self) -> &[usize] {
+        &self.jobs
+    }
+    fn key(&self, i: &usize) -> String {
+        format!("table3/{i}")
+    }
+    fn run(&self, &i: &usize) -> Result<ProblemRow> {
+        per_problem(&self.cfg, "table3", i, RobotCount::LeavesMinusOne, None)
+    }
+    fn records(&self, r: &ProblemRow) -> Vec<RunRecord> {
+        let p = gp_params_text(&self.cfg.params);
+        pair_records(
+            format!("table3/{}", r.index),
+            p,
+            r.psw_steps,
+            r.gp_steps,
+            r.gp_seconds,
+        )
+    }
+    fn pages(&self, rows: &[&ProblemRow], m: &Manifest) -> Result<Vec<(String, String)>> {
+        gp_pages::table3(&self.cfg, rows, m)
+    }
+    fn summary(&self, rows: &[&ProblemRow]) -> String {
+        gp_pages::table3_summary(rows)
+    }
+}
+
+impl Sweep for GpTable5 {
+    type Job = (f64, usize);
+    type Row = ProblemRow;
+    fn name(&self) -> &str {
+        "gp-table5"
+    }
+    fn jobs(&self) -> &[(f64, usize)] {
+        &self.jobs
+    }
+    fn key(&self, (m, i): &(f64, usize)) -> String {
+        format!("table5/{m}/{i}")
+    }
+    fn run(&self, &(m, i): &(f64, usize)) -> Result<ProblemRow> {
+        let set = format!("table5/{m}");
+        per_problem(&self.cfg, &set, i, RobotCount::PerLeaf(m), Some(m))
+    }
+    fn records(&self, r: &ProblemRow) -> Vec<RunRecord> {
+        let p = gp_params_text(&self.cfg.params);
+        let instance = format!("table5/{}/{}", r.multiplier.unwrap_or(0.0), r.index);
+        pair_records(instance, p, r.psw_steps, r.gp_steps, r.gp_seconds)
+    }
+    fn pages(&self, rows: &[&ProblemRow], m: &Manifest) -> Result<Vec<(String, String)>> {
+        gp_pages::table5(&self.multipliers, rows, m)
+    }
+    fn summary(&self, rows: &[&ProblemRow]) -> String {
+        gp_pages::table5_summary(&self.multipliers, rows)
+    }
+}
+
+impl Sweep for GpTable4 {
+    type Job = (usize, usize);
+    type Row = Table4Row;
+    fn name(&self) -> &str {
+        "gp-table4"
+    }
+    fn jobs(&self) -> &[(usize, usize)] {
+        &self.jobs
+    }
+    fn key(&self, (x, trial): &(usize, usize)) -> String {
+        format!("table4/{x}/{trial}")
+    }
+    fn run(&self, &(x, trial): &(usize, usize)) -> Result<Table4Row> {
+        table4_trial(&self.cfg, x, trial, self.tests)
+    }
+    fn records(&self, r: &Table4Row) -> Vec<RunRecord> {
+        let p = gp_params_text(&self.cfg.params);
+        r.tests
+            .iter()
+            .flat_map(|t| {
+                let instance = format!("table4/{}/{}/test/{}", t.train_size, t.trial, t.index);
+                pair_records(instance, p.clone(), t.psw_steps, t.gp_steps, 0.0)
+            })
+            .collect()
+    }
+    fn pages(&self, rows: &[&Table4Row], m: &Manifest) -> Result<Vec<(String, String)>> {
+        gp_pages::table4(self, rows, m)
+    }
+    fn summary(&self, rows: &[&Table4Row]) -> String {
+        gp_pages::table4_summary(&self.train_sizes, rows)
+    }
 }
 
 /// Mean and standard deviation of `y` for each distinct `x` (the paper's plots: "each data point
@@ -527,6 +687,7 @@ pub fn swap_ratio(swaps: usize, robots: usize) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::harness::{Shard, run_shard};
 
     fn tiny() -> GpExperimentConfig {
         GpExperimentConfig {
@@ -584,7 +745,11 @@ mod tests {
                 .num_threads(threads)
                 .build()
                 .unwrap()
-                .install(|| run_table3(&cfg, 6, &|_| {}).unwrap())
+                .install(|| {
+                    let sweep = GpTable3::new(cfg.clone(), 6).unwrap();
+                    let (rows, _) = run_shard(&sweep, Shard::ALL, &|_| {}).unwrap();
+                    rows.into_iter().map(|(_, r)| r).collect::<Vec<_>>()
+                })
         };
         let one = go(1);
         let two = go(2);
@@ -609,16 +774,23 @@ mod tests {
     #[test]
     fn table4_and_table5_run_small() {
         let cfg = tiny();
-        let (progs, rows) = run_table4(&cfg, &[1, 2], 1, 3, &|_| {}).unwrap();
-        assert_eq!(progs.len(), 2);
-        assert_eq!(rows.len(), 6);
-        assert!(rows.iter().all(|r| r.psw_steps.is_some()));
-        for p in &progs {
-            assert!(p.program.parse::<Program>().is_ok());
+        let t4 = GpTable4::new(cfg.clone(), vec![1, 2], 1, 3).unwrap();
+        let (rows4, _) = run_shard(&t4, Shard::ALL, &|_| {}).unwrap();
+        assert_eq!(rows4.len(), 2);
+        assert!(rows4.iter().all(|(_, r)| r.tests.len() == 3));
+        assert!(
+            rows4
+                .iter()
+                .flat_map(|(_, r)| &r.tests)
+                .all(|t| t.psw_steps.is_some())
+        );
+        for (_, r) in &rows4 {
+            assert!(r.program.program.parse::<Program>().is_ok());
         }
-        let rows5 = run_table5(&cfg, &[0.5, 1.5], 3, &|_| {}).unwrap();
+        let t5 = GpTable5::new(cfg.clone(), vec![0.5, 1.5], 3).unwrap();
+        let (rows5, _) = run_shard(&t5, Shard::ALL, &|_| {}).unwrap();
         assert_eq!(rows5.len(), 6);
-        assert!(run_table5(&cfg, &[0.0], 1, &|_| {}).is_err());
-        assert!(run_table4(&cfg, &[0], 1, 1, &|_| {}).is_err());
+        assert!(GpTable5::new(cfg.clone(), vec![0.0], 1).is_err());
+        assert!(GpTable4::new(cfg, vec![0], 1, 1).is_err());
     }
 }

@@ -1,23 +1,30 @@
-//! The H* paper's Table II: Max / Sum of path lengths of Enol2023, WHCA*, NSGA-III and H* on the
-//! instances of Table I, averaged over R runs (the paper uses 10).
+//! The H* paper's Table II as a sweep: Max / Sum of path lengths of Enol2023, WHCA*, NSGA-III
+//! and H* on the instances of Table I, averaged over R runs (the paper uses 10).
 //!
-//! Every (instance, method, run) is an independent job with its own seed derived from the user's
-//! seed and the job's key, so the rows do not depend on how many threads ran them. Max / Sum are the
-//! makespan and the sum of costs of a valid plan (waits count); a run whose planner does not return a
-//! valid plan is "not solved" and leaves no numbers. Runtime is wall time and does depend on the
-//! machine and its load.
+//! Every (instance, method, run) is one job with its own seed derived from the user's seed and
+//! the job's key, so the rows depend neither on the thread count nor on the sharding. Max / Sum
+//! are the makespan and the sum of costs of a valid plan (waits count); a run whose planner
+//! returns no plan is "not solved" and leaves no numbers; an invalid plan (a bug) stops the
+//! sweep. Runtime is wall time and does depend on the machine and its load. The page
+//! (`table2.md`) sets ours beside the paper's numbers (kept as CSV, `table2-paper.csv`), with
+//! each instance's lower bounds and Enol2023's stage-1 routes; `fig5.svg` is the paper's Fig. 5.
 
 use std::path::Path;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
-use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
 
+use crate::harness::{Manifest, RunRecord, Sweep, params_text};
 use crate::papers::hstar_instances::{PaperInstance, Scenario2Map, table1_instances};
+use crate::report::{Panel, Series, csv_text, line_panels};
 use mrpp_core::error::{Error, Result, read_file};
 use mrpp_core::mapf::instance::Instance;
+use mrpp_core::mapf::plan_file::RunInfo;
+use mrpp_core::mapf::search::distance::lower_bounds;
 use mrpp_core::registry::find;
 use mrpp_core::seeds::derive_seed;
-use mrpp_core::{Ctx, Deadline, MapfProblem, Planner, Solved, solve};
+use mrpp_core::{Ctx, Deadline, MapfProblem, Params, Planner, Solved, Unsolved, solve};
+use mrpp_grid::io::plan_json::grid_envelope;
 use mrpp_grid::map::GridMap;
 
 /// One column of Table II.
@@ -32,11 +39,18 @@ pub struct Method {
 }
 
 impl Method {
+    /// The planner's resolved parameters (every key, defaults filled in).
+    pub fn resolved(&self) -> Result<Params> {
+        let entry = find(mrpp_grid::PLANNERS, self.planner)
+            .ok_or_else(|| Error::Param(format!("unknown planner `{}`", self.planner)))?;
+        Params::resolve(entry.name, entry.params, &self.params)
+    }
+
     /// The planner, built from the grid registry.
     pub fn build(&self) -> Result<Box<dyn Planner<MapfProblem>>> {
-        find(mrpp_grid::PLANNERS, self.planner)
-            .ok_or_else(|| Error::Param(format!("unknown planner `{}`", self.planner)))?
-            .instantiate(&self.params)
+        let entry = find(mrpp_grid::PLANNERS, self.planner)
+            .ok_or_else(|| Error::Param(format!("unknown planner `{}`", self.planner)))?;
+        (entry.build)(&self.resolved()?)
     }
 }
 
@@ -64,6 +78,8 @@ pub struct Table2Config {
     pub methods: Vec<Method>,
     /// Wall-clock limit of one run.
     pub time_limit: Duration,
+    /// Also write every solved plan as `plans/<scenario>-<robots>-<planner>-<run>.json`.
+    pub save_plans: bool,
 }
 
 impl Default for Table2Config {
@@ -74,12 +90,13 @@ impl Default for Table2Config {
             scenario2_map: Scenario2Map::OpenRooms,
             methods: table2_methods(),
             time_limit: Duration::from_secs(30),
+            save_plans: false,
         }
     }
 }
 
-/// One run: a CSV row of `results.csv` (plus the plan, when solved).
-#[derive(Debug, Clone)]
+/// One run: a CSV row of `results.csv` (plus the plan file, when plans are saved).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct RunRow {
     pub scenario: u8,
     pub robots: usize,
@@ -91,15 +108,19 @@ pub struct RunRow {
     pub run: usize,
     pub seed: u64,
     pub solved: bool,
+    /// `solved`, or why not (`time_limit`, `gave_up`).
+    pub status: String,
     /// Makespan of the plan.
     pub max: Option<u64>,
     /// Sum of costs of the plan.
     pub sum: Option<u64>,
+    /// Sum of moves of the plan.
+    pub moves: Option<u64>,
     pub runtime_ms: f64,
     /// Why it was not solved.
     pub note: String,
-    /// The validated plan with its metrics, when solved.
-    pub plan: Option<Solved<MapfProblem>>,
+    /// The plan envelope of a solved run, when plans are saved.
+    pub plan_file: Option<String>,
 }
 
 /// A loaded Table I instance.
@@ -139,71 +160,213 @@ pub fn load_table1(root: &Path, sc2: Scenario2Map) -> Result<Vec<LoadedInstance>
         .collect()
 }
 
-/// Number of jobs [`run_table2`] will run.
-pub fn job_count(instances: &[LoadedInstance], cfg: &Table2Config) -> usize {
-    instances.len() * cfg.methods.len() * cfg.runs
+/// Table II as a sweep: jobs (instance, method, run) in that order.
+pub struct Table2 {
+    pub cfg: Table2Config,
+    pub instances: Vec<LoadedInstance>,
+    pub paper: Vec<PaperCell>,
+    planners: Vec<Box<dyn Planner<MapfProblem>>>,
+    jobs: Vec<(usize, usize, usize)>,
 }
 
-/// Runs every job in parallel (rayon's pool); `on_done` is called once per finished job, from any
-/// thread. Rows come back in a fixed order: instance, method, run.
-pub fn run_table2(
-    instances: &[LoadedInstance],
-    cfg: &Table2Config,
-    on_done: &(dyn Fn(&RunRow) + Sync),
-) -> Result<Vec<RunRow>> {
-    if cfg.runs == 0 {
-        return Err(Error::Param("--runs must be at least 1".into()));
+impl Table2 {
+    /// Loads Table I's instances and the paper's numbers from `data` (laid out like the bundled
+    /// `data/hstar-paper/`) and builds every method's planner.
+    pub fn new(cfg: Table2Config, data: &Path) -> Result<Self> {
+        if cfg.runs == 0 {
+            return Err(Error::Param("--runs must be at least 1".into()));
+        }
+        let planners = cfg
+            .methods
+            .iter()
+            .map(Method::build)
+            .collect::<Result<_>>()?;
+        let paper = load_paper_table2(&data.join("table2-paper.csv"))?;
+        let instances = load_table1(data, cfg.scenario2_map)?;
+        let (i, m, r) = (instances.len(), cfg.methods.len(), cfg.runs);
+        let jobs = (0..i)
+            .flat_map(|i| (0..m).flat_map(move |m| (0..r).map(move |r| (i, m, r))))
+            .collect();
+        Ok(Table2 {
+            cfg,
+            instances,
+            paper,
+            planners,
+            jobs,
+        })
     }
-    let planners = cfg
-        .methods
-        .iter()
-        .map(Method::build)
-        .collect::<Result<Vec<_>>>()?;
-    let jobs: Vec<(usize, usize, usize)> = (0..instances.len())
-        .flat_map(|i| {
-            (0..cfg.methods.len()).flat_map(move |m| (0..cfg.runs).map(move |r| (i, m, r)))
-        })
-        .collect();
-    let rows = jobs
-        .par_iter()
-        .map(|&(i, m, run)| {
-            let li = &instances[i];
-            let planner = planners[m].as_ref();
-            let key = format!(
-                "sc{}/{}/{}/{run}",
-                li.info.scenario,
-                li.info.robots,
-                planner.name()
-            );
-            let seed = derive_seed(cfg.seed, &key);
-            let opts = Ctx::new(seed, Deadline::after(cfg.time_limit));
-            let started = Instant::now();
-            let outcome = solve(planner, &li.problem, &opts);
-            let runtime_ms = started.elapsed().as_secs_f64() * 1e3;
-            let (metrics, plan, note) = match outcome {
-                Ok(s) => (Some(s.metrics), Some(s), String::new()),
-                Err(why) => (None, None, why.to_string()),
-            };
-            let row = RunRow {
-                scenario: li.info.scenario,
-                robots: li.info.robots,
-                label: li.info.label.clone(),
-                column: cfg.methods[m].column.clone(),
-                planner: planner.name().to_string(),
-                run,
+
+    /// The row of one finished run.
+    fn row(
+        &self,
+        (i, m, run): (usize, usize, usize),
+        seed: u64,
+        outcome: &Result<Solved<MapfProblem>, Unsolved>,
+        runtime_ms: f64,
+    ) -> RunRow {
+        let li = &self.instances[i];
+        let metrics = outcome.as_ref().ok().map(|s| s.metrics);
+        RunRow {
+            scenario: li.info.scenario,
+            robots: li.info.robots,
+            label: li.info.label.clone(),
+            column: self.cfg.methods[m].column.clone(),
+            planner: self.planners[m].name().to_string(),
+            run,
+            seed,
+            solved: metrics.is_some(),
+            status: outcome
+                .as_ref()
+                .map_or_else(|e| e.status().to_string(), |_| "solved".into()),
+            max: metrics.map(|m| m.makespan),
+            sum: metrics.map(|m| m.sum_of_costs),
+            moves: metrics.map(|m| m.sum_of_moves),
+            runtime_ms,
+            note: outcome
+                .as_ref()
+                .err()
+                .map(|e| e.to_string())
+                .unwrap_or_default(),
+            plan_file: None,
+        }
+    }
+}
+
+impl Sweep for Table2 {
+    type Job = (usize, usize, usize);
+    type Row = RunRow;
+
+    fn name(&self) -> &str {
+        "hstar-table2"
+    }
+
+    fn jobs(&self) -> &[(usize, usize, usize)] {
+        &self.jobs
+    }
+
+    fn key(&self, &(i, m, run): &(usize, usize, usize)) -> String {
+        let li = &self.instances[i];
+        format!(
+            "sc{}/{}/{}/{run}",
+            li.info.scenario,
+            li.info.robots,
+            self.planners[m].name()
+        )
+    }
+
+    fn run(&self, job: &(usize, usize, usize)) -> Result<RunRow> {
+        let seed = derive_seed(self.cfg.seed, &self.key(job));
+        let li = &self.instances[job.0];
+        let ctx = Ctx::new(seed, Deadline::after(self.cfg.time_limit));
+        let started = std::time::Instant::now();
+        let outcome = solve(self.planners[job.1].as_ref(), &li.problem, &ctx);
+        let runtime_ms = started.elapsed().as_secs_f64() * 1e3;
+        if let Err(Unsolved::Invalid(why)) = &outcome {
+            return Err(Error::Internal(why.clone()));
+        }
+        let mut row = self.row(*job, seed, &outcome, runtime_ms);
+        if let (true, Ok(s)) = (self.cfg.save_plans, &outcome) {
+            let map_file = file_name(&li.info.map);
+            let info = RunInfo {
+                planner: row.planner.clone(),
                 seed,
-                solved: metrics.is_some(),
-                max: metrics.map(|m| m.makespan),
-                sum: metrics.map(|m| m.sum_of_costs),
                 runtime_ms,
-                note,
-                plan,
+                ..RunInfo::default()
             };
-            on_done(&row);
-            row
-        })
-        .collect();
-    Ok(rows)
+            let env = grid_envelope(&li.map, &map_file, &li.problem, info, &Ok(s.clone()));
+            row.plan_file = Some(env.to_json());
+        }
+        Ok(row)
+    }
+
+    fn records(&self, r: &RunRow) -> Vec<RunRecord> {
+        let m = self.cfg.methods.iter().find(|m| m.column == r.column);
+        let params = m
+            .and_then(|m| m.resolved().ok())
+            .map(|p| params_text(p.iter()))
+            .unwrap_or_default();
+        vec![RunRecord {
+            job: 0,
+            key: String::new(),
+            family: mrpp_grid::FAMILY.into(),
+            instance: format!("sc{}/{}", r.scenario, r.robots),
+            planner: r.planner.clone(),
+            params,
+            run: r.run,
+            seed: r.seed,
+            status: r.status.clone(),
+            sum_of_costs: r.sum,
+            makespan: r.max,
+            sum_of_moves: r.moves,
+            runtime_ms: r.runtime_ms,
+        }]
+    }
+
+    fn pages(&self, rows: &[&RunRow], manifest: &Manifest) -> Result<Vec<(String, String)>> {
+        let command = format!("mrpp {}", manifest.sweep_command().join(" "));
+        let mut files = vec![
+            ("results.csv".to_string(), results_csv(rows)?),
+            (
+                "table2.md".to_string(),
+                table2_page(self, rows, &command, manifest.wall_seconds),
+            ),
+            ("fig5.svg".to_string(), fig5(self, rows)?),
+        ];
+        for r in rows {
+            if let Some(text) = &r.plan_file {
+                let name = format!(
+                    "plans/{}-{}-{}-{}.json",
+                    r.scenario, r.robots, r.planner, r.run
+                );
+                files.push((name, text.clone()));
+            }
+        }
+        Ok(files)
+    }
+
+    fn summary(&self, rows: &[&RunRow]) -> String {
+        let solved = rows.iter().filter(|r| r.solved).count();
+        format!("{solved}/{} runs solved", rows.len())
+    }
+}
+
+fn file_name(path: &Path) -> String {
+    path.file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default()
+}
+
+fn results_csv(rows: &[&RunRow]) -> Result<String> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    let header = [
+        "scenario",
+        "robots",
+        "planner",
+        "run",
+        "seed",
+        "solved",
+        "max",
+        "sum",
+        "runtime_ms",
+    ];
+    w.write_record(header)
+        .map_err(|e| Error::Internal(e.to_string()))?;
+    let opt = |v: Option<u64>| v.map(|v| v.to_string()).unwrap_or_default();
+    for r in rows {
+        w.write_record([
+            r.scenario.to_string(),
+            r.robots.to_string(),
+            r.planner.clone(),
+            r.run.to_string(),
+            r.seed.to_string(),
+            r.solved.to_string(),
+            opt(r.max),
+            opt(r.sum),
+            format!("{:.3}", r.runtime_ms),
+        ])
+        .map_err(|e| Error::Internal(e.to_string()))?;
+    }
+    csv_text(w)
 }
 
 /// One cell of the paper's Table II (`None` = blank: paths with collisions).
@@ -255,9 +418,10 @@ pub struct CellSummary {
 }
 
 /// Summarises the runs of one instance and method.
-pub fn summarize(rows: &[RunRow], scenario: u8, robots: usize, column: &str) -> CellSummary {
+pub fn summarize(rows: &[&RunRow], scenario: u8, robots: usize, column: &str) -> CellSummary {
     let runs: Vec<&RunRow> = rows
         .iter()
+        .copied()
         .filter(|r| r.scenario == scenario && r.robots == robots && r.column == column)
         .collect();
     let solved: Vec<&&RunRow> = runs.iter().filter(|r| r.solved).collect();
@@ -277,7 +441,7 @@ pub fn summarize(rows: &[RunRow], scenario: u8, robots: usize, column: &str) -> 
 /// solved runs; empty when no run was solved; `k/R` when only some were) beside the paper's.
 pub fn render_table2_markdown(
     instances: &[LoadedInstance],
-    rows: &[RunRow],
+    rows: &[&RunRow],
     methods: &[Method],
     paper: &[PaperCell],
 ) -> String {
@@ -313,4 +477,158 @@ pub fn render_table2_markdown(
         s.push('\n');
     }
     s
+}
+
+/// `table2.md`: ours beside the paper's Table II, lower bounds, Enol2023's stage 1, runtimes.
+fn table2_page(t: &Table2, rows: &[&RunRow], command: &str, wall: f64) -> String {
+    let (instances, cfg, paper) = (&t.instances, &t.cfg, &t.paper);
+    let mut s = String::new();
+    s.push_str("# H* paper, Table II: Max / Sum of path lengths\n\n");
+    s.push_str(&format!(
+        "`{command}` — mrpp {}, {} runs per cell, wall time {wall:.1} s.\n\n",
+        env!("CARGO_PKG_VERSION"),
+        cfg.runs
+    ));
+    s.push_str(
+        "Ours: mean makespan / mean sum of costs (waits count) over the runs that returned a valid plan; \
+         `(k/R)` when only k of R runs did; empty when none did. Paper: its Table II (empty = paths with collisions).\n\n",
+    );
+    s.push_str(&render_table2_markdown(
+        instances,
+        rows,
+        &cfg.methods,
+        paper,
+    ));
+    s.push_str(
+        "\nLower bounds (each robot's shortest distance, others ignored); Enol2023's stage-1 routes \
+         (A* with private obstacles, before co-evolution: Max / Sum and the number of robot pairs still \
+         in conflict); mean runtime of our runs:\n\n",
+    );
+    s.push_str("| SC | robots | LB Max / Sum | Enol2023 stage 1 |");
+    for m in &cfg.methods {
+        s.push_str(&format!(" {} ms |", m.column));
+    }
+    s.push_str("\n|---|---|---|---|");
+    for _ in &cfg.methods {
+        s.push_str("---|");
+    }
+    s.push('\n');
+    for li in instances {
+        let lb = lower_bounds(li.map.graph(), &li.inst.starts, &li.inst.goals)
+            .map(|(sum, max)| format!("{max} / {sum}"))
+            .unwrap_or_else(|i| format!("agent {i} cannot reach its goal"));
+        s.push_str(&format!(
+            "| {} | {} | {lb} | {} |",
+            li.info.scenario,
+            li.info.label,
+            stage1(li)
+        ));
+        for m in &cfg.methods {
+            let times: Vec<f64> = rows
+                .iter()
+                .copied()
+                .filter(|r| {
+                    r.scenario == li.info.scenario
+                        && r.robots == li.info.robots
+                        && r.column == m.column
+                })
+                .map(|r| r.runtime_ms)
+                .collect();
+            let mean = times.iter().sum::<f64>() / times.len().max(1) as f64;
+            s.push_str(&format!(" {mean:.1} |"));
+        }
+        s.push('\n');
+    }
+    s
+}
+
+/// Enol2023's stage 1 alone: the A* routes with private obstacles, as Max / Sum (arrival steps) and
+/// how many robot pairs still conflict.
+fn stage1(li: &LoadedInstance) -> String {
+    use mrpp_grid::coevolution::{Coevolution, astar_with_private_obstacles, route_conflict};
+    let g = li.map.graph();
+    let Ok(stage) =
+        astar_with_private_obstacles(g, &li.inst, &Coevolution::default(), Deadline::none())
+    else {
+        return String::new();
+    };
+    let lengths: Vec<usize> = stage
+        .routes
+        .iter()
+        .zip(&li.inst.goals)
+        .map(|(r, &goal)| {
+            mrpp_core::mapf::plan::path_cost(r, goal, mrpp_core::GoalSemantics::Stay)
+                .unwrap_or(r.len() - 1)
+        })
+        .collect();
+    let n = stage.routes.len();
+    let pairs = (0..n)
+        .flat_map(|a| (a + 1..n).map(move |b| (a, b)))
+        .filter(|&(a, b)| route_conflict(&stage.routes[a], &stage.routes[b]).is_some())
+        .count();
+    format!(
+        "{} / {}, {pairs} pairs",
+        lengths.iter().max().unwrap_or(&0),
+        lengths.iter().sum::<usize>()
+    )
+}
+
+/// `fig5.svg`: the average path length per robot against the robot count, ours and the paper's.
+fn fig5(t: &Table2, rows: &[&RunRow]) -> Result<String> {
+    let (instances, cfg, paper) = (&t.instances, &t.cfg, &t.paper);
+    let mut panels = Vec::new();
+    for sc in 1..=3u8 {
+        let here: Vec<&LoadedInstance> = instances
+            .iter()
+            .filter(|li| li.info.scenario == sc)
+            .collect();
+        let mut series = Vec::new();
+        for m in &cfg.methods {
+            let points: Vec<(f64, f64)> = here
+                .iter()
+                .filter_map(|li| {
+                    let c = summarize(rows, sc, li.info.robots, &m.column);
+                    c.mean_sum
+                        .map(|s| (li.info.robots as f64, s / li.info.robots as f64))
+                })
+                .collect();
+            series.push(Series {
+                name: m.column.clone(),
+                points,
+                paper: false,
+                ..Series::default()
+            });
+            let paper_points: Vec<(f64, f64)> = here
+                .iter()
+                .filter_map(|li| {
+                    paper
+                        .iter()
+                        .find(|p| {
+                            p.scenario == sc && p.robots == li.info.robots && p.column == m.column
+                        })
+                        .and_then(|p| p.max_sum)
+                        .map(|(_, sum)| (li.info.robots as f64, sum / li.info.robots as f64))
+                })
+                .collect();
+            if !paper_points.is_empty() {
+                series.push(Series {
+                    name: format!("{} (paper)", m.column),
+                    points: paper_points,
+                    paper: true,
+                    ..Series::default()
+                });
+            }
+        }
+        panels.push(Panel {
+            title: format!("Scenario {sc}"),
+            series,
+        });
+    }
+    line_panels(
+        "Average path length per robot (Sum / robots); lines: mrpp, circles: paper",
+        "robots",
+        "average path length",
+        &panels,
+    )
+    .map_err(Error::Internal)
 }

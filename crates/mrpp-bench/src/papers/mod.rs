@@ -1,5 +1,11 @@
-//! Paper tables and figures, each a function returning rows (the CLI writes files and draws).
+//! The papers' tables and figures as sweeps on the harness: each declares its jobs and its pages
+//! (Markdown beside the paper's numbers, CSV, SVG figures).
+//!
+//! - [`hstar_table2`]: the H* paper's Table II (Enol2023, WHCA*, NSGA-III, H*), on
+//!   [`hstar_instances`] (Table I);
+//! - [`gp_trees`]: the GP paper's Tables 3–5 (GP vs Push-Swap-Wait), pages in [`gp_pages`].
 
+pub mod gp_pages;
 pub mod gp_trees;
 pub mod hstar_instances;
 pub mod hstar_table2;

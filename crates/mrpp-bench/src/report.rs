@@ -1,4 +1,5 @@
-//! Figures drawn with plotters (SVG backend only, so no system font libraries are needed).
+//! What the paper pages share: figures drawn with plotters (SVG backend only, so no system font
+//! libraries are needed) and CSV text.
 
 use plotters::prelude::*;
 
@@ -131,4 +132,12 @@ pub fn line_panels(
         root.present().map_err(|e| err(&e))?;
     }
     Ok(svg)
+}
+
+/// The text of a CSV writer's buffer.
+pub fn csv_text(w: csv::Writer<Vec<u8>>) -> mrpp_core::Result<String> {
+    let bytes = w
+        .into_inner()
+        .map_err(|e| mrpp_core::Error::Internal(e.to_string()))?;
+    String::from_utf8(bytes).map_err(|e| mrpp_core::Error::Internal(e.to_string()))
 }

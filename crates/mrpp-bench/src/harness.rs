@@ -1,0 +1,468 @@
+//! The run harness: a sweep is a fixed list of jobs; the harness runs them (all, or one shard),
+//! in parallel with rayon, and turns their rows into the sweep's outputs.
+//!
+//! - **Order and seeds.** Jobs are numbered in the sweep's fixed order; each job draws its seeds
+//!   from the user's seed and the job's key (never from a thread or an execution order), so rows
+//!   do not depend on the thread count or on the sharding.
+//! - **Shards.** `--shard i/N` runs the jobs whose number is `i - 1` modulo `N` (round robin, so
+//!   each shard gets a fair mix of cheap and costly jobs) and writes `part-i-of-N.jsonl` (one line
+//!   per job: its number, key and row) beside `manifest-i-of-N.json`. The N shards can run as
+//!   Slurm array tasks or with GNU parallel, into one folder or several.
+//! - **Merge.** [`merge_parts`] reads the parts back, checks that they come from one sweep (same
+//!   command apart from `--shard`/`--out`, same N) and cover every job exactly once, and returns
+//!   the rows in job order: the outputs built from them equal those of the unsharded run (apart
+//!   from wall-clock times).
+//! - **Records.** Every sweep also writes `records.csv`, one validated run per line in one schema
+//!   for all sweeps ([`RunRecord`]), and `manifest.json`: the command, seed, version, shard and
+//!   thread count that made the folder.
+//!
+//! The harness never prints and never writes: it returns files for the binary to write.
+
+use std::path::{Path, PathBuf};
+use std::str::FromStr;
+use std::time::Instant;
+
+use rayon::prelude::*;
+use serde::de::DeserializeOwned;
+use serde::{Deserialize, Serialize};
+
+use mrpp_core::error::{Error, Result, read_file};
+
+/// A shard `index` of `count` (1-based); `1/1` is the whole sweep.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Shard {
+    pub index: usize,
+    pub count: usize,
+}
+
+impl Shard {
+    /// The whole sweep.
+    pub const ALL: Shard = Shard { index: 1, count: 1 };
+
+    /// Whether job number `job` (0-based) belongs to this shard.
+    pub fn owns(&self, job: usize) -> bool {
+        job % self.count == self.index - 1
+    }
+
+    /// `true` for `1/1`.
+    pub fn is_all(&self) -> bool {
+        self.count == 1
+    }
+}
+
+impl std::fmt::Display for Shard {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "{}/{}", self.index, self.count)
+    }
+}
+
+impl FromStr for Shard {
+    type Err = String;
+    /// `i/N` with `1 <= i <= N <= 100000`.
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        let bad = || format!("expected a shard i/N with 1 <= i <= N (e.g. 2/8), got `{s}`");
+        let (i, n) = s.split_once('/').ok_or_else(bad)?;
+        let (index, count): (usize, usize) = (
+            i.trim().parse().map_err(|_| bad())?,
+            n.trim().parse().map_err(|_| bad())?,
+        );
+        if index == 0 || index > count || count > 100_000 {
+            return Err(bad());
+        }
+        Ok(Shard { index, count })
+    }
+}
+
+/// One validated run in the schema every sweep shares (`records.csv`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct RunRecord {
+    /// The job's number in its sweep.
+    pub job: usize,
+    /// The job's key (also the key its seeds derive from).
+    pub key: String,
+    pub family: String,
+    /// The instance, as the sweep names it (e.g. `sc1/6`, `random-32-32-20/a50`).
+    pub instance: String,
+    pub planner: String,
+    /// `key=value` parameters, `;`-separated, in key order.
+    pub params: String,
+    pub run: usize,
+    pub seed: u64,
+    /// `solved`, `time_limit`, `gave_up` (never `invalid`: an invalid plan stops the sweep).
+    pub status: String,
+    pub sum_of_costs: Option<u64>,
+    pub makespan: Option<u64>,
+    pub sum_of_moves: Option<u64>,
+    /// Wall time of the planner (machine-dependent).
+    pub runtime_ms: f64,
+}
+
+/// A sweep: a fixed list of jobs, how to run one, and what its outputs are.
+pub trait Sweep: Sync {
+    type Job: Sync;
+    type Row: Serialize + DeserializeOwned + Send;
+    /// The sweep's name, e.g. `hstar-table2`.
+    fn name(&self) -> &str;
+    /// Every job, in the sweep's fixed order.
+    fn jobs(&self) -> &[Self::Job];
+    /// A job's key: unique in the sweep, stable across versions (seeds derive from it).
+    fn key(&self, job: &Self::Job) -> String;
+    /// Runs one job; every plan it makes goes through `mrpp_core::solve`/`accept`. An error
+    /// (e.g. an invalid plan, a bug) stops the sweep.
+    fn run(&self, job: &Self::Job) -> Result<Self::Row>;
+    /// The row as records of the shared schema (`job` and `key` are filled in by the harness).
+    fn records(&self, row: &Self::Row) -> Vec<RunRecord>;
+    /// The sweep's own files (relative path, contents) made from all its rows in job order:
+    /// `results.csv`, a Markdown page beside the paper's numbers, SVG figures, ...
+    fn pages(&self, rows: &[&Self::Row], manifest: &Manifest) -> Result<Vec<(String, String)>>;
+    /// A few lines for the terminal once the sweep is done.
+    fn summary(&self, rows: &[&Self::Row]) -> String;
+}
+
+/// What made an output folder.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Manifest {
+    pub sweep: String,
+    pub mrpp_version: String,
+    /// The command line, as given (argv without the program name).
+    pub command: Vec<String>,
+    pub seed: u64,
+    /// `i/N` of the shard this folder holds, or `merged i/N` for a merge.
+    pub shard: String,
+    pub jobs: usize,
+    pub threads: usize,
+    /// Wall time of the jobs this folder ran (a merge adds its parts').
+    pub wall_seconds: f64,
+}
+
+impl Manifest {
+    /// The command without `--shard X` and `--out X`: what every part of one sweep shares.
+    pub fn sweep_command(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        let mut skip = false;
+        for a in &self.command {
+            if skip {
+                skip = false;
+                continue;
+            }
+            if a == "--shard" || a == "--out" {
+                skip = true;
+                continue;
+            }
+            if a.starts_with("--shard=") || a.starts_with("--out=") {
+                continue;
+            }
+            out.push(a.clone());
+        }
+        out
+    }
+}
+
+/// What the progress reporter is told after each job.
+pub struct Tick<'a> {
+    pub done: usize,
+    pub total: usize,
+    /// The key of the job just finished.
+    pub key: &'a str,
+}
+
+/// Rows with their job numbers, in job order.
+pub type Numbered<R> = Vec<(usize, R)>;
+
+/// The number of threads rayon uses (what the manifest records).
+pub fn threads() -> usize {
+    rayon::current_num_threads()
+}
+
+/// Runs the jobs of `shard` in parallel; `tick` is called after each job (from any thread).
+/// Returns `(job number, row)` in job order and the wall time in seconds.
+pub fn run_shard<S: Sweep>(
+    sweep: &S,
+    shard: Shard,
+    tick: &(dyn Fn(Tick) + Sync),
+) -> Result<(Numbered<S::Row>, f64)> {
+    let started = Instant::now();
+    let mine: Vec<usize> = (0..sweep.jobs().len()).filter(|&j| shard.owns(j)).collect();
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let rows = mine
+        .par_iter()
+        .map(|&j| {
+            let job = &sweep.jobs()[j];
+            let row = sweep.run(job)?;
+            let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+            tick(Tick {
+                done: n,
+                total: mine.len(),
+                key: &sweep.key(job),
+            });
+            Ok((j, row))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok((rows, started.elapsed().as_secs_f64()))
+}
+
+/// One line of a part file.
+#[derive(Serialize, Deserialize)]
+struct PartLine<R> {
+    job: usize,
+    key: String,
+    row: R,
+}
+
+/// The files of a finished run: for the whole sweep, its pages, `records.csv` and
+/// `manifest.json`; for a shard, `part-i-of-N.jsonl` and `manifest-i-of-N.json`.
+pub fn outputs<S: Sweep>(
+    sweep: &S,
+    rows: &[(usize, S::Row)],
+    shard: Shard,
+    manifest: &Manifest,
+) -> Result<Vec<(String, String)>> {
+    let json = |v: &dyn erased_serialize::Ser| v.to_json();
+    if !shard.is_all() {
+        let mut part = String::new();
+        for (j, row) in rows {
+            let line = PartLine {
+                job: *j,
+                key: sweep.key(&sweep.jobs()[*j]),
+                row,
+            };
+            part.push_str(&json(&line));
+            part.push('\n');
+        }
+        let tag = format!("{}-of-{}", shard.index, shard.count);
+        return Ok(vec![
+            (format!("part-{tag}.jsonl"), part),
+            (format!("manifest-{tag}.json"), json(manifest) + "\n"),
+        ]);
+    }
+    let in_order: Vec<&S::Row> = rows.iter().map(|(_, r)| r).collect();
+    let mut files = sweep.pages(&in_order, manifest)?;
+    files.push(("records.csv".into(), records_csv(sweep, rows)?));
+    files.push(("manifest.json".into(), json(manifest) + "\n"));
+    Ok(files)
+}
+
+/// `records.csv` of rows in job order.
+fn records_csv<S: Sweep>(sweep: &S, rows: &[(usize, S::Row)]) -> Result<String> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    for (j, row) in rows {
+        for mut r in sweep.records(row) {
+            r.job = *j;
+            r.key = sweep.key(&sweep.jobs()[*j]);
+            w.serialize(r).map_err(|e| Error::Internal(e.to_string()))?;
+        }
+    }
+    let bytes = w.into_inner().map_err(|e| Error::Internal(e.to_string()))?;
+    String::from_utf8(bytes).map_err(|e| Error::Internal(e.to_string()))
+}
+
+/// The part files (`part-*-of-N.jsonl`) in `dirs`, with their manifests.
+fn find_parts(dirs: &[PathBuf]) -> Result<Vec<(PathBuf, Manifest)>> {
+    let mut parts = Vec::new();
+    for dir in dirs {
+        let entries = std::fs::read_dir(dir).map_err(|source| Error::Io {
+            path: dir.clone(),
+            source,
+        })?;
+        let mut names: Vec<String> = entries
+            .filter_map(|e| e.ok()?.file_name().into_string().ok())
+            .filter(|n| n.starts_with("part-") && n.ends_with(".jsonl"))
+            .collect();
+        names.sort();
+        for name in names {
+            let tag = &name["part-".len()..name.len() - ".jsonl".len()];
+            let mpath = dir.join(format!("manifest-{tag}.json"));
+            let manifest: Manifest = serde_json::from_str(&read_file(&mpath)?)
+                .map_err(|e| Error::parse(&mpath, e.line().max(1), e.to_string()))?;
+            parts.push((dir.join(name), manifest));
+        }
+    }
+    if parts.is_empty() {
+        return Err(Error::Param(
+            "no part-i-of-N.jsonl files in the given folders".into(),
+        ));
+    }
+    Ok(parts)
+}
+
+/// The manifest every part shares (its command, apart from `--shard`/`--out`), checked.
+pub fn merged_manifest(dirs: &[PathBuf]) -> Result<Manifest> {
+    let parts = find_parts(dirs)?;
+    let first = &parts[0].1;
+    for (path, m) in &parts {
+        if m.sweep_command() != first.sweep_command() {
+            return Err(Error::invalid(
+                path,
+                format!(
+                    "comes from another sweep: `{}` vs `{}`",
+                    m.sweep_command().join(" "),
+                    first.sweep_command().join(" ")
+                ),
+            ));
+        }
+    }
+    let mut merged = first.clone();
+    merged.wall_seconds = parts.iter().map(|(_, m)| m.wall_seconds).sum();
+    merged.shard = format!("merged from {} parts ({})", parts.len(), first.shard);
+    Ok(merged)
+}
+
+/// Reads every part in `dirs` and returns the rows of the whole sweep in job order, after
+/// checking that they come from one sweep and cover each of its jobs exactly once.
+pub fn merge_parts<S: Sweep>(sweep: &S, dirs: &[PathBuf]) -> Result<Numbered<S::Row>> {
+    let parts = find_parts(dirs)?;
+    let total = sweep.jobs().len();
+    let mut rows: Vec<Option<S::Row>> = (0..total).map(|_| None).collect();
+    for (path, _) in &parts {
+        for (i, line) in read_file(path)?.lines().enumerate() {
+            let p: PartLine<S::Row> =
+                serde_json::from_str(line).map_err(|e| Error::parse(path, i + 1, e.to_string()))?;
+            check_line(sweep, &p, path, i + 1, rows.get(p.job).map(Option::is_some))?;
+            rows[p.job] = Some(p.row);
+        }
+    }
+    let missing: Vec<usize> = (0..total).filter(|&j| rows[j].is_none()).collect();
+    if let Some(&j) = missing.first() {
+        return Err(Error::Param(format!(
+            "{} of {total} jobs are in no part (first: job {j}, `{}`); run the missing shards first",
+            missing.len(),
+            sweep.key(&sweep.jobs()[j])
+        )));
+    }
+    Ok(rows
+        .into_iter()
+        .enumerate()
+        .map(|(j, r)| (j, r.expect("checked above")))
+        .collect())
+}
+
+fn check_line<S: Sweep>(
+    sweep: &S,
+    p: &PartLine<S::Row>,
+    path: &Path,
+    line: usize,
+    seen: Option<bool>,
+) -> Result<()> {
+    match seen {
+        None => Err(Error::parse(
+            path,
+            line,
+            format!("job {} is not a job of this sweep", p.job),
+        )),
+        Some(true) => Err(Error::parse(
+            path,
+            line,
+            format!("job {} is in two parts", p.job),
+        )),
+        Some(false) if sweep.key(&sweep.jobs()[p.job]) != p.key => Err(Error::parse(
+            path,
+            line,
+            format!("job {} has key `{}`, not this sweep's", p.job, p.key),
+        )),
+        Some(false) => Ok(()),
+    }
+}
+
+/// `key=value;...` of parameters (what [`RunRecord::params`] holds).
+pub fn params_text<'a>(params: impl IntoIterator<Item = (&'a str, &'a str)>) -> String {
+    params
+        .into_iter()
+        .map(|(k, v)| format!("{k}={v}"))
+        .collect::<Vec<_>>()
+        .join(";")
+}
+
+/// Serialising a value of any type behind a `dyn` (for the one `json` helper above).
+mod erased_serialize {
+    pub trait Ser {
+        fn to_json(&self) -> String;
+    }
+    impl<T: serde::Serialize> Ser for T {
+        fn to_json(&self) -> String {
+            serde_json::to_string(self).expect("sweep rows and manifests serialise")
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A sweep of 10 jobs whose rows are their squares.
+    struct Squares(Vec<u64>);
+
+    impl Sweep for Squares {
+        type Job = u64;
+        type Row = u64;
+        fn name(&self) -> &str {
+            "squares"
+        }
+        fn jobs(&self) -> &[u64] {
+            &self.0
+        }
+        fn key(&self, job: &u64) -> String {
+            format!("n{job}")
+        }
+        fn run(&self, job: &u64) -> Result<u64> {
+            Ok(job * job)
+        }
+        fn records(&self, _: &u64) -> Vec<RunRecord> {
+            Vec::new()
+        }
+        fn pages(&self, rows: &[&u64], _: &Manifest) -> Result<Vec<(String, String)>> {
+            Ok(vec![("rows.txt".into(), format!("{rows:?}"))])
+        }
+        fn summary(&self, rows: &[&u64]) -> String {
+            format!("{} rows", rows.len())
+        }
+    }
+
+    fn manifest(shard: &str) -> Manifest {
+        Manifest {
+            sweep: "squares".into(),
+            mrpp_version: "0".into(),
+            command: vec![
+                "x".into(),
+                "--shard".into(),
+                shard.into(),
+                "--out".into(),
+                "d".into(),
+            ],
+            seed: 0,
+            shard: shard.into(),
+            jobs: 10,
+            threads: 1,
+            wall_seconds: 1.0,
+        }
+    }
+
+    #[test]
+    fn shards_cover_every_job_once_and_merge_to_the_whole() {
+        let sweep = Squares((0..10).collect());
+        let (whole, _) = run_shard(&sweep, Shard::ALL, &|_| {}).unwrap();
+        let dir = std::env::temp_dir().join(format!("mrpp-harness-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        for i in 1..=3 {
+            let shard: Shard = format!("{i}/3").parse().unwrap();
+            let (rows, _) = run_shard(&sweep, shard, &|_| {}).unwrap();
+            assert!(rows.iter().all(|(j, _)| j % 3 == i - 1));
+            for (name, text) in
+                outputs(&sweep, &rows, shard, &manifest(&shard.to_string())).unwrap()
+            {
+                std::fs::write(dir.join(name), text).unwrap();
+            }
+        }
+        let merged = merge_parts(&sweep, std::slice::from_ref(&dir)).unwrap();
+        assert_eq!(merged, whole);
+        let m = merged_manifest(std::slice::from_ref(&dir)).unwrap();
+        assert_eq!(m.wall_seconds, 3.0);
+        assert_eq!(m.sweep_command(), vec!["x".to_string()]);
+        std::fs::remove_file(dir.join("part-2-of-3.jsonl")).unwrap();
+        let e = merge_parts(&sweep, std::slice::from_ref(&dir))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("jobs are in no part"), "{e}");
+        assert!("0/3".parse::<Shard>().is_err() && "4/3".parse::<Shard>().is_err());
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

@@ -1,0 +1,107 @@
+//! `mrpp bench run`: a sweep of grid maps x scenarios x agent counts x planners x runs, from a
+//! TOML config or flags; `mrpp bench merge`: joins the parts of any sweep run with `--shard`.
+
+use std::path::PathBuf;
+
+use mrpp_bench::Shard;
+use mrpp_bench::sweep::{GridSweep, InstanceSpec, PlannerSpec, SweepConfig};
+
+use crate::output::Fail;
+use crate::sweeps::{Mode, drive};
+
+#[derive(clap::Subcommand)]
+pub(crate) enum Bench {
+    /// Run a sweep (or one shard of it): records.csv (one validated run per line), summary.md,
+    /// manifest.json.
+    Run(RunArgs),
+    /// Join the parts of a sharded sweep (`part-i-of-N.jsonl` in the given folders) into the
+    /// files of the whole sweep; the sweep is rebuilt from the command its parts recorded.
+    Merge {
+        /// Where to write the merged files.
+        #[arg(long)]
+        out: PathBuf,
+        /// Folders holding the parts.
+        #[arg(required = true)]
+        parts: Vec<PathBuf>,
+    },
+}
+
+#[derive(clap::Args)]
+pub(crate) struct RunArgs {
+    /// The sweep as TOML (see `mrpp-bench`'s `sweep` module doc and bench/configs/).
+    #[arg(long, conflicts_with_all = ["map", "scen", "planners"])]
+    config: Option<PathBuf>,
+    /// Without --config: the map ...
+    #[arg(long, requires = "scen")]
+    map: Option<PathBuf>,
+    /// ... its scenario ...
+    #[arg(long, requires = "map")]
+    scen: Option<PathBuf>,
+    /// ... agent counts (comma-separated; default all) ...
+    #[arg(long, value_delimiter = ',')]
+    agents: Vec<usize>,
+    /// ... and planners (comma-separated registry names, default parameters).
+    #[arg(long, value_delimiter = ',')]
+    planners: Vec<String>,
+    /// Runs per cell (flags only; a config sets `runs`).
+    #[arg(long, conflicts_with = "config")]
+    runs: Option<usize>,
+    /// Seconds per run (flags only; a config sets `time_limit`).
+    #[arg(long, conflicts_with = "config")]
+    time_limit: Option<f64>,
+    /// Seed (overrides the config's).
+    #[arg(long)]
+    seed: Option<u64>,
+    /// Run only shard i of N (`i/N`).
+    #[arg(long)]
+    shard: Option<Shard>,
+    #[arg(long, default_value = "out/bench")]
+    out: PathBuf,
+}
+
+impl RunArgs {
+    fn config(&self) -> Result<SweepConfig, Fail> {
+        let mut cfg = match &self.config {
+            Some(path) => SweepConfig::load(path)?,
+            None => {
+                let (Some(map), Some(scen)) = (&self.map, &self.scen) else {
+                    return Err(Fail(
+                        "give --config C.toml, or --map, --scen and --planners".into(),
+                    ));
+                };
+                SweepConfig {
+                    name: "bench".into(),
+                    seed: 0,
+                    runs: self.runs.unwrap_or(1),
+                    time_limit: self.time_limit.unwrap_or(10.0),
+                    instances: vec![InstanceSpec {
+                        map: map.clone(),
+                        scen: scen.clone(),
+                        agents: self.agents.clone(),
+                    }],
+                    planners: self
+                        .planners
+                        .iter()
+                        .map(|n| PlannerSpec {
+                            name: n.clone(),
+                            params: Default::default(),
+                        })
+                        .collect(),
+                }
+            }
+        };
+        if let Some(s) = self.seed {
+            cfg.seed = s;
+        }
+        Ok(cfg)
+    }
+}
+
+/// Runs a sweep (or, with `merge`, joins its parts).
+pub(crate) fn run(args: RunArgs, merge: Option<Mode>) -> Result<u8, Fail> {
+    let cfg = args.config()?;
+    let seed = cfg.seed;
+    let sweep = GridSweep::new(cfg)?;
+    let mode = merge.unwrap_or(Mode::run(args.shard, args.out));
+    drive(&sweep, &mode, seed, "runs")
+}

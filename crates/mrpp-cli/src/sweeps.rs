@@ -1,0 +1,118 @@
+//! Running a sweep from the command line: the one driver behind `mrpp experiment ...` and
+//! `mrpp bench run`, and `mrpp bench merge`, which rebuilds the sweep from the command its parts
+//! recorded and joins them.
+
+use std::path::{Path, PathBuf};
+
+use mrpp_bench::harness::{Manifest, merge_parts, outputs, run_shard, threads};
+use mrpp_bench::{Shard, Sweep};
+
+use crate::output::{Fail, write_atomic};
+use crate::progress::Jobs;
+
+/// Run the whole sweep or one shard, or merge parts; every mode writes into `out`.
+pub(crate) enum Mode {
+    Run {
+        shard: Shard,
+        out: PathBuf,
+    },
+    Merge {
+        parts: Vec<PathBuf>,
+        manifest: Box<Manifest>,
+        out: PathBuf,
+    },
+}
+
+impl Mode {
+    /// A run of `shard` (the whole sweep when `None`) into `out`.
+    pub(crate) fn run(shard: Option<Shard>, out: PathBuf) -> Mode {
+        Mode::Run {
+            shard: shard.unwrap_or(Shard::ALL),
+            out,
+        }
+    }
+}
+
+/// Runs `sweep` as `mode` says, writes its files atomically (all computed first), prints the
+/// summary of a whole sweep and what was written.
+pub(crate) fn drive<S: Sweep>(
+    sweep: &S,
+    mode: &Mode,
+    seed: u64,
+    unit: &'static str,
+) -> Result<u8, Fail> {
+    let total = sweep.jobs().len();
+    let (rows, manifest, shard, out) = match mode {
+        Mode::Run { shard, out } => {
+            let mine = (0..total).filter(|&j| shard.owns(j)).count();
+            println!(
+                "mrpp {} | {} | seed {seed} | {total} jobs | shard {shard}: {mine} jobs | threads {}",
+                env!("CARGO_PKG_VERSION"),
+                sweep.name(),
+                threads()
+            );
+            let jobs = Jobs::new(mine, unit);
+            let (rows, wall) = run_shard(sweep, *shard, &|t| jobs.tick(t.key))?;
+            jobs.finish();
+            let manifest = Manifest {
+                sweep: sweep.name().to_string(),
+                mrpp_version: env!("CARGO_PKG_VERSION").into(),
+                command: std::env::args().skip(1).collect(),
+                seed,
+                shard: shard.to_string(),
+                jobs: total,
+                threads: threads(),
+                wall_seconds: wall,
+            };
+            (rows, manifest, *shard, out)
+        }
+        Mode::Merge {
+            parts,
+            manifest,
+            out,
+        } => {
+            let rows = merge_parts(sweep, parts)?;
+            println!(
+                "mrpp {} | merged {} jobs of {} from {} folder(s)",
+                env!("CARGO_PKG_VERSION"),
+                rows.len(),
+                sweep.name(),
+                parts.len()
+            );
+            ((rows), (**manifest).clone(), Shard::ALL, out)
+        }
+    };
+    let files = outputs(sweep, &rows, shard, &manifest)?;
+    write_files(out, &files)?;
+    if shard.is_all() {
+        let in_order: Vec<&S::Row> = rows.iter().map(|(_, r)| r).collect();
+        print!("{}", sweep.summary(&in_order));
+        println!();
+    }
+    let names: Vec<&str> = files
+        .iter()
+        .map(|f| f.0.as_str())
+        .filter(|n| !n.starts_with("plans/"))
+        .collect();
+    let plans = files.len() - names.len();
+    let extra = if plans > 0 {
+        format!(", plans/ ({plans} plans)")
+    } else {
+        String::new()
+    };
+    println!("wrote {}/{{{}}}{extra}", out.display(), names.join(", "));
+    Ok(0)
+}
+
+/// Writes every file under `out` (creating folders), each atomically.
+fn write_files(out: &Path, files: &[(String, String)]) -> Result<(), Fail> {
+    for (name, text) in files {
+        let path = out.join(name);
+        if let Some(dir) = path.parent() {
+            std::fs::create_dir_all(dir)
+                .map_err(|e| Fail(format!("{}: cannot create: {e}", dir.display())))?;
+        }
+        write_atomic(&path, text)?;
+    }
+    Ok(())
+}

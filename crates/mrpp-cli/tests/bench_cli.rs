@@ -1,0 +1,156 @@
+//! The harness from the command line: sharded runs merged with `mrpp bench merge` equal the
+//! unsharded run (apart from wall-clock columns), for a paper table and for a TOML sweep; bad
+//! configs are one-line errors naming the file and line.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("mrpp-bench-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+/// Runs mrpp from the repository root; asserts the exit code; returns stdout and stderr.
+fn mrpp(args: &[&str], code: i32) -> (String, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_mrpp"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .unwrap();
+    let (out, err) = (
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    );
+    assert_eq!(o.status.code(), Some(code), "mrpp {args:?}\n{out}\n{err}");
+    (out, err)
+}
+
+/// A CSV file without its wall-clock columns.
+fn without_timing(path: &Path) -> String {
+    let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let keep: Vec<usize> = (0..header.len())
+        .filter(|&i| !["runtime_ms", "gp_seconds", "seconds"].contains(&header[i]))
+        .collect();
+    text.lines()
+        .map(|l| {
+            let f: Vec<&str> = l.split(',').collect();
+            keep.iter()
+                .map(|&i| f.get(i).copied().unwrap_or(""))
+                .collect::<Vec<_>>()
+                .join(",")
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+fn s(p: &Path) -> &str {
+    p.to_str().unwrap()
+}
+
+#[test]
+fn sharded_paper_table_merges_to_the_whole() {
+    let dir = tmp("gp3");
+    let (parts, whole, merged) = (dir.join("parts"), dir.join("whole"), dir.join("merged"));
+    let base = [
+        "experiment",
+        "gp-table3",
+        "--problems",
+        "5",
+        "--seed",
+        "4",
+        "--population",
+        "40",
+        "--generations",
+        "3",
+        "--runs",
+        "1",
+    ];
+    for shard in ["1/3", "2/3", "3/3"] {
+        let mut a = base.to_vec();
+        a.extend(["--shard", shard, "--out", s(&parts)]);
+        mrpp(&a, 0);
+    }
+    let mut a = base.to_vec();
+    a.extend(["--out", s(&whole)]);
+    mrpp(&a, 0);
+    let (out, _) = mrpp(&["bench", "merge", "--out", s(&merged), s(&parts)], 0);
+    assert!(out.contains("merged 5 jobs"), "{out}");
+    for f in ["results.csv", "records.csv"] {
+        assert_eq!(
+            without_timing(&whole.join(f)),
+            without_timing(&merged.join(f)),
+            "{f}"
+        );
+    }
+    let manifest = std::fs::read_to_string(merged.join("manifest.json")).unwrap();
+    assert!(
+        manifest.contains("merged from 3 parts") && manifest.contains("gp-table3"),
+        "{manifest}"
+    );
+    // A missing shard is named, and nothing is written.
+    std::fs::remove_file(parts.join("part-2-of-3.jsonl")).unwrap();
+    let again = dir.join("again");
+    let (_, err) = mrpp(&["bench", "merge", "--out", s(&again), s(&parts)], 1);
+    assert!(err.contains("jobs are in no part"), "{err}");
+    assert!(!again.join("results.csv").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn toml_sweep_shards_merge_and_bad_configs_are_named() {
+    let dir = tmp("toml");
+    let config = "bench/configs/example.toml";
+    let (parts, whole, merged) = (dir.join("parts"), dir.join("whole"), dir.join("merged"));
+    mrpp(&["bench", "run", "--config", config, "--out", s(&whole)], 0);
+    for shard in ["1/2", "2/2"] {
+        mrpp(
+            &[
+                "bench",
+                "run",
+                "--config",
+                config,
+                "--shard",
+                shard,
+                "--out",
+                s(&parts),
+            ],
+            0,
+        );
+    }
+    mrpp(&["bench", "merge", "--out", s(&merged), s(&parts)], 0);
+    let records = without_timing(&merged.join("records.csv"));
+    assert_eq!(without_timing(&whole.join("records.csv")), records);
+    assert_eq!(records.lines().count(), 1 + 3 * 3 * 2, "{records}");
+    assert!(
+        records.lines().skip(1).all(|l| l.contains(",solved,")),
+        "{records}"
+    );
+    let bad = dir.join("bad.toml");
+    std::fs::write(
+        &bad,
+        "name = \"x\"\n\n[[planners]]\nname = \"hstar\"\nwidow = 3\n",
+    )
+    .unwrap();
+    let (_, err) = mrpp(
+        &[
+            "bench",
+            "run",
+            "--config",
+            s(&bad),
+            "--out",
+            s(&dir.join("o")),
+        ],
+        1,
+    );
+    assert!(err.contains("bad.toml:") && err.contains("widow"), "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
