@@ -13,7 +13,7 @@ use mrpp_bench::papers::gp_trees::{GpExperimentConfig, GpTable3, GpTable4, GpTab
 use mrpp_bench::papers::hstar_instances::Scenario2Map;
 use mrpp_bench::papers::hstar_table2::{Table2, Table2Config, table2_methods};
 
-use crate::output::{Fail, time_limit};
+use crate::output::{Fail, seconds, time_limit};
 use crate::sweeps::{Mode, drive};
 
 #[derive(Clone, Copy, ValueEnum)]
@@ -249,14 +249,9 @@ fn gp_table4(a: &GpTable4Args) -> Result<GpTable4, Fail> {
     Ok(GpTable4::new(cfg, a.train_sizes.clone(), trials, tests)?)
 }
 
+/// A duration flag in seconds, checked like every time limit ([`seconds`]).
 fn positive_seconds(what: &str, s: f64) -> Result<Duration, Fail> {
-    if s.is_finite() && s > 0.0 && s <= 1e7 {
-        Ok(Duration::from_secs_f64(s))
-    } else {
-        Err(Fail(format!(
-            "--{what} must be a positive number of seconds, got {s}"
-        )))
-    }
+    seconds(what, s)
 }
 
 impl GpCommon {

@@ -19,13 +19,19 @@ impl<E: std::fmt::Display> From<E> for Fail {
 pub(crate) const MAX_TIME_LIMIT: f64 = 1e7;
 
 /// A `--time-limit` in seconds, checked: positive, finite, at most [`MAX_TIME_LIMIT`].
-pub(crate) fn time_limit(seconds: f64) -> Result<Duration, Fail> {
-    if !(seconds.is_finite() && seconds > 0.0 && seconds <= MAX_TIME_LIMIT) {
+pub(crate) fn time_limit(value: f64) -> Result<Duration, Fail> {
+    seconds("time-limit", value)
+}
+
+/// The value of the flag `--<flag>` in seconds, checked: positive, finite, at most
+/// [`MAX_TIME_LIMIT`] (the one cap every duration flag shares).
+pub(crate) fn seconds(flag: &str, value: f64) -> Result<Duration, Fail> {
+    if !(value.is_finite() && value > 0.0 && value <= MAX_TIME_LIMIT) {
         return Err(Fail(format!(
-            "--time-limit must be a positive number of seconds, got {seconds}"
+            "--{flag} must be a positive number of seconds, got {value}"
         )));
     }
-    Ok(Duration::from_secs_f64(seconds))
+    Ok(Duration::from_secs_f64(value))
 }
 
 /// Writes `contents` to `path` through a temporary file in the same directory, so a reader never

@@ -4,7 +4,7 @@
 
 use std::path::{Path, PathBuf};
 
-use mrpp_bench::harness::{Manifest, merge_parts, outputs, run_shard, threads};
+use mrpp_bench::harness::{Manifest, Numbered, merge_parts, outputs, run_shard, threads};
 use mrpp_bench::{Shard, Sweep};
 
 use crate::output::{Fail, write_atomic};
@@ -41,29 +41,9 @@ pub(crate) fn drive<S: Sweep>(
     seed: u64,
     unit: &'static str,
 ) -> Result<u8, Fail> {
-    let total = sweep.jobs().len();
     let (rows, manifest, shard, out) = match mode {
         Mode::Run { shard, out } => {
-            let mine = (0..total).filter(|&j| shard.owns(j)).count();
-            println!(
-                "mrpp {} | {} | seed {seed} | {total} jobs | shard {shard}: {mine} jobs | threads {}",
-                env!("CARGO_PKG_VERSION"),
-                sweep.name(),
-                threads()
-            );
-            let jobs = Jobs::new(mine, unit);
-            let (rows, wall) = run_shard(sweep, *shard, &|t| jobs.tick(t.key))?;
-            jobs.finish();
-            let manifest = Manifest {
-                sweep: sweep.name().to_string(),
-                mrpp_version: env!("CARGO_PKG_VERSION").into(),
-                command: std::env::args().skip(1).collect(),
-                seed,
-                shard: shard.to_string(),
-                jobs: total,
-                threads: threads(),
-                wall_seconds: wall,
-            };
+            let (rows, manifest) = run_jobs(sweep, *shard, seed, unit)?;
             (rows, manifest, *shard, out)
         }
         Mode::Merge {
@@ -79,15 +59,14 @@ pub(crate) fn drive<S: Sweep>(
                 sweep.name(),
                 parts.len()
             );
-            ((rows), (**manifest).clone(), Shard::ALL, out)
+            (rows, (**manifest).clone(), Shard::ALL, out)
         }
     };
     let files = outputs(sweep, &rows, shard, &manifest)?;
     write_files(out, &files)?;
     if shard.is_all() {
         let in_order: Vec<&S::Row> = rows.iter().map(|(_, r)| r).collect();
-        print!("{}", sweep.summary(&in_order));
-        println!();
+        println!("{}", sweep.summary(&in_order));
     }
     let names: Vec<&str> = files
         .iter()
@@ -102,6 +81,37 @@ pub(crate) fn drive<S: Sweep>(
     };
     println!("wrote {}/{{{}}}{extra}", out.display(), names.join(", "));
     Ok(0)
+}
+
+/// Runs the jobs of `shard` with a progress reporter; returns the rows and the folder's manifest.
+fn run_jobs<S: Sweep>(
+    sweep: &S,
+    shard: Shard,
+    seed: u64,
+    unit: &'static str,
+) -> Result<(Numbered<S::Row>, Manifest), Fail> {
+    let total = sweep.jobs().len();
+    let mine = (0..total).filter(|&j| shard.owns(j)).count();
+    println!(
+        "mrpp {} | {} | seed {seed} | {total} jobs | shard {shard}: {mine} jobs | threads {}",
+        env!("CARGO_PKG_VERSION"),
+        sweep.name(),
+        threads()
+    );
+    let jobs = Jobs::new(mine, unit);
+    let (rows, wall) = run_shard(sweep, shard, &|t| jobs.tick(t.key))?;
+    jobs.finish();
+    let manifest = Manifest {
+        sweep: sweep.name().to_string(),
+        mrpp_version: env!("CARGO_PKG_VERSION").into(),
+        command: std::env::args().skip(1).collect(),
+        seed,
+        shard: shard.to_string(),
+        jobs: total,
+        threads: threads(),
+        wall_seconds: wall,
+    };
+    Ok((rows, manifest))
 }
 
 /// Writes every file under `out` (creating folders), each atomically.

@@ -1,4 +1,6 @@
-//! NSGA-III (Deb & Jain, IEEE TEC 18(4), 2014), generic over the problem (`baselines.md` §4).
+//! NSGA-III (K. Deb, H. Jain, "An Evolutionary Many-Objective Optimization Algorithm Using
+//! Reference-Point-Based Nondominated Sorting Approach, Part I", IEEE TEC 18(4), 2014), generic
+//! over the problem.
 //!
 //! NSGA-II's crowding distance stops discriminating once most of the population is non-dominated,
 //! which happens quickly with three or more objectives; NSGA-III replaces it with a fixed set of

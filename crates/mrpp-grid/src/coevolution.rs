@@ -1,6 +1,6 @@
 //! Enol2023: A* with private obstacles, then cooperative co-evolution (García, Villar, Tan,
 //! Sedano, Chira, ICAE 30:41–52, 2023), the baseline of the H* paper's §V-D and Table II, as
-//! `baselines.md` §3 specifies it from the authors' public Python code.
+//! reconstructed from that paper and the authors' public Python code.
 //!
 //! Why two stages: independent A* routes are short but collide; blocking each robot's conflict
 //! cells on a *private* copy of the map (so no robot constrains another) removes most collisions
@@ -67,7 +67,7 @@
 //!   route per robot among the `stop_depth` best of each subpopulation, searched depth-first in
 //!   rank order (so the best individuals are tried first) within `stop_node_cap` nodes; the plan
 //!   is that choice. The authors' `evaluate()` enumerates exactly these combinations of the k best;
-//!   `stop_depth = 1` is the literal "best individuals only" of `baselines.md`. Depth 3 vs 1 on 100
+//!   `stop_depth = 1` is the literal "best individuals only" of the authors' description. Depth 3 vs 1 on 100
 //!   seeds: SC1 10 solved 92 vs 86, SC1 12 95 vs 94, otherwise equal.
 //! - **Inverted fitness** ([`Coevolution::inverted_fitness`]): the authors' bug, where the counter
 //!   grows when a pair does *not* collide. The stop test and the validator still judge true

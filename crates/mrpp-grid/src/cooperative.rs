@@ -1,4 +1,5 @@
-//! The cooperative A* family of Silver (AIIDE 2005): CA*, HCA* and WHCA*(w) (`baselines.md` §2).
+//! The cooperative A* family of D. Silver, "Cooperative Pathfinding" (AIIDE 2005): CA*, HCA* and
+//! WHCA*(w).
 //!
 //! All three are prioritised planners built on the shared space-time A* and reservation table
 //! ([`mrpp_core::mapf::search::spacetime`]); they differ in the heuristic and in how far ahead an agent plans.

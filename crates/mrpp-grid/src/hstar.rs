@@ -1,5 +1,6 @@
 //! H*: hybrid greedy planner of Kopacz, García González, Chira and Villar (IEEE Latin America
-//! Transactions), `shared/papers/hstar-hybrid-greedy-grid.md` §IV.
+//! Transactions, "Hybrid Adaptive Greedy Algorithm Addressing the Multi-Robot Path Planning
+//! Problem") §IV.
 //!
 //! The paper's steps, in order, each a function named after it:
 //! 1. [`greedy_path_search`] (§IV-A, Algorithm 1 applied to all robots step by step): at every time

@@ -1,5 +1,5 @@
 //! NSGA-III route selection, the multi-objective baseline of the H* paper's Table II (González et
-//! al., SOCO 2023, cited there as [22]; `baselines.md` §4, H* paper §V-D).
+//! al., SOCO 2023, cited there as [22]; H* paper §V-D).
 //!
 //! The H* paper describes it in one sentence: NSGA-III "starts from a set of pregenerated
 //! randomized routes and applies multi-objective evolutionary optimization to identify a
@@ -38,8 +38,8 @@
 //!    f2 = sum of arrival times (waits included, the paper's "Sum"); optionally f3 = makespan
 //!    ("Max"). f1 and f2 are "the number of collisions and the path length" of §V-D.
 //!    [`count_conflicts`] runs in O(n·T) with a time-stamped occupancy array instead of the
-//!    O(n²·T) pairwise test of `baselines.md`.
-//! 4. Operators **[R]** (`baselines.md` §4): uniform crossover with probability 0.9 and per-gene
+//!    O(n²·T) pairwise test.
+//! 4. Operators **[R]**: uniform crossover with probability 0.9 and per-gene
 //!    reset mutation with rate `1/n`, where robot `i`'s gene is its (route, delay) pair: the pair
 //!    comes whole from either parent, and a reset redraws both uniformly. A route and the delay that
 //!    times it belong together; resetting them independently made two-part repairs (another route

@@ -1,5 +1,7 @@
 //! Push-Swap-Wait (PSW; Wiktor, Scobee, Messenger & Clark, IROS 2014), the baseline of the GP
-//! paper, as reconstructed in `shared/docs/baselines.md` §1, with the deviations listed below that
+//! paper (A. Wiktor, D. Scobee, S. Messenger, C. Clark, "Decentralized and complete multi-robot
+//! motion planning in confined spaces", IEEE/RSJ IROS 2014, pp. 1168–1175), as reconstructed from
+//! that paper and the GP paper's description, with the deviations listed below that
 //! make it complete on its completeness condition (#robots < #leaves) under `visit` semantics.
 //!
 //! Each time step:
@@ -81,7 +83,7 @@
 //!
 //! Following (entering a vertex that a robot leaves in the same step) is allowed by default, as in
 //! the paper's formulation (one robot per node at the end of a step, one robot per edge per step)
-//! and in `design.md`; with [`Psw::allow_following`] off, plans must be validated with following
+//! and in mrpp's MAPF semantics; with [`Psw::allow_following`] off, plans must be validated with following
 //! forbidden. The seed of [`Ctx`] is not used: PSW is deterministic.
 
 use std::collections::VecDeque;
@@ -1084,7 +1086,7 @@ mod tests {
             .unwrap_or_else(|v| panic!("invalid plan: {}", v))
     }
 
-    /// T-tree of baselines.md §0: A=0 (root), B=1, C=2, D=3, E=4; r1: A→B, r2: B→A.
+    /// The T-tree reference instance: A=0 (root), B=1, C=2, D=3, E=4; r1: A→B, r2: B→A.
     fn t_tree() -> (Graph, Instance) {
         let g = Graph::from_edges(5, &[(0, 1), (1, 2), (2, 3), (2, 4)]);
         (g, Instance::new(vec![0, 1], vec![1, 0]).unwrap())

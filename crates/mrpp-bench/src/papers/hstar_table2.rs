@@ -326,7 +326,8 @@ impl Sweep for Table2 {
 
     fn summary(&self, rows: &[&RunRow]) -> String {
         let solved = rows.iter().filter(|r| r.solved).count();
-        format!("{solved}/{} runs solved", rows.len())
+        let table = render_table2_markdown(&self.instances, rows, &self.cfg.methods, &self.paper);
+        format!("{table}\n{solved}/{} runs solved", rows.len())
     }
 }
 

@@ -2,7 +2,7 @@
 //!
 //! A plan holds one vertex sequence per agent; index = time step, `path[0]` = start. A path may end
 //! early: the agent then stays on its last vertex (and still occupies it). The rules are those of
-//! `design.md`: moves only along edges or waits, no vertex conflicts, no swap conflicts, following
+//! MAPF convention: moves only along edges or waits, no vertex conflicts, no swap conflicts, following
 //! allowed unless [`Rules::allow_following`] is off.
 
 use serde::{Deserialize, Serialize};

@@ -1,4 +1,5 @@
-//! Genetic programming for single-lane trees (Trudeau & Clark, `shared/papers/gp-single-lane-trees.md`).
+//! Genetic programming for single-lane trees (A. Trudeau and C. M. Clark, "Multi-Robot Path
+//! Planning Via Genetic Programming").
 //!
 //! The paper evolves one decision tree that every robot runs, in id order, at every time step:
 //! internal nodes are the nine conditionals of its Table 1, leaves the four actions of Table 2.

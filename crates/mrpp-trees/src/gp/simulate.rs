@@ -738,7 +738,7 @@ mod tests {
     use super::*;
     use crate::test_support::validate_tree_plan;
 
-    /// The T-tree of `baselines.md`: A(0)–B(1)–C(2), C–D(3), C–E(4); r0: A→B, r1: B→A.
+    /// The T-tree reference instance: A(0)–B(1)–C(2), C–D(3), C–E(4); r0: A→B, r1: B→A.
     fn t_tree() -> Problem {
         let g = Graph::from_edges(5, &[(0, 1), (1, 2), (2, 3), (2, 4)]);
         let inst = Instance::new(vec![0, 1], vec![1, 0]).unwrap();
@@ -805,7 +805,7 @@ mod tests {
             let res = plan_program(&prog, &p, &opts, Deadline::none());
             let (plan, out) = res.unwrap_or_else(|e| panic!("{arrival:?}: {e}"));
             validate_tree_plan(p.graph(), p.instance(), &plan, true).unwrap();
-            // The optimum with following is 5 (`baselines.md`). Traced by hand (both modes): r1
+            // The optimum with following is 5 (by exhaustive search). Traced by hand (both modes): r1
             // reaches C at step 1 and steps aside to D at step 2 while r0 visits its goal B; r0
             // moves on to C (3) and aside to E (4) so that r1 passes C (4), B (5), A (6).
             assert_eq!(out.steps, 6, "{arrival:?}");
