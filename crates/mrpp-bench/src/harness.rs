@@ -117,6 +117,8 @@ pub trait Sweep: Sync {
     fn pages(&self, rows: &[&Self::Row], manifest: &Manifest) -> Result<Vec<(String, String)>>;
     /// A few lines for the terminal once the sweep is done.
     fn summary(&self, rows: &[&Self::Row]) -> String;
+    /// The sweep's whole configuration as text (recorded in the manifest beside the command).
+    fn config(&self) -> String;
 }
 
 /// What made an output folder.
@@ -127,6 +129,8 @@ pub struct Manifest {
     /// The command line, as given (argv without the program name).
     pub command: Vec<String>,
     pub seed: u64,
+    /// The sweep's whole configuration ([`Sweep::config`]).
+    pub config: String,
     /// `i/N` of the shard this folder holds, or `merged i/N` for a merge.
     pub shard: String,
     pub jobs: usize,
@@ -415,6 +419,9 @@ mod tests {
         fn summary(&self, rows: &[&u64]) -> String {
             format!("{} rows", rows.len())
         }
+        fn config(&self) -> String {
+            format!("{:?}", self.0)
+        }
     }
 
     fn manifest(shard: &str) -> Manifest {
@@ -429,6 +436,7 @@ mod tests {
                 "d".into(),
             ],
             seed: 0,
+            config: String::new(),
             shard: shard.into(),
             jobs: 10,
             threads: 1,

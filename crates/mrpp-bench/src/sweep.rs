@@ -281,6 +281,11 @@ impl Sweep for GridSweep {
     fn summary(&self, rows: &[&RunRecord]) -> String {
         self.table(rows)
     }
+
+    /// The sweep as TOML (paths as resolved).
+    fn config(&self) -> String {
+        toml::to_string(&self.cfg).unwrap_or_else(|e| format!("unprintable config: {e}"))
+    }
 }
 
 impl GridSweep {

@@ -106,6 +106,7 @@ fn run_jobs<S: Sweep>(
         mrpp_version: env!("CARGO_PKG_VERSION").into(),
         command: std::env::args().skip(1).collect(),
         seed,
+        config: sweep.config(),
         shard: shard.to_string(),
         jobs: total,
         threads: threads(),

@@ -598,6 +598,9 @@ impl Sweep for GpTable3 {
     fn summary(&self, rows: &[&ProblemRow]) -> String {
         gp_pages::table3_summary(rows)
     }
+    fn config(&self) -> String {
+        format!("{:?}; problems {}", self.cfg, self.jobs.len())
+    }
 }
 
 impl Sweep for GpTable5 {
@@ -626,6 +629,14 @@ impl Sweep for GpTable5 {
     }
     fn summary(&self, rows: &[&ProblemRow]) -> String {
         gp_pages::table5_summary(&self.multipliers, rows)
+    }
+    fn config(&self) -> String {
+        format!(
+            "{:?}; multipliers {:?}; jobs {}",
+            self.cfg,
+            self.multipliers,
+            self.jobs.len()
+        )
     }
 }
 
@@ -659,6 +670,12 @@ impl Sweep for GpTable4 {
     }
     fn summary(&self, rows: &[&Table4Row]) -> String {
         gp_pages::table4_summary(&self.train_sizes, rows)
+    }
+    fn config(&self) -> String {
+        format!(
+            "{:?}; train sizes {:?}; trials {}; tests {}",
+            self.cfg, self.train_sizes, self.trials, self.tests
+        )
     }
 }
 

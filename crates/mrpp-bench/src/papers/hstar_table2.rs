@@ -324,6 +324,10 @@ impl Sweep for Table2 {
         Ok(files)
     }
 
+    fn config(&self) -> String {
+        format!("{:?}", self.cfg)
+    }
+
     fn summary(&self, rows: &[&RunRow]) -> String {
         let solved = rows.iter().filter(|r| r.solved).count();
         let table = render_table2_markdown(&self.instances, rows, &self.cfg.methods, &self.paper);
