@@ -154,6 +154,9 @@ def load_plan(path):
 
 def check(grid, plan):
     """Returns the metrics dict of a valid plan; raises Invalid otherwise."""
+    family = plan.get("family", "")
+    if family not in ("", "grid"):
+        raise Invalid(f"this is a {family} plan, not a grid plan")
     if plan.get("solved") is not True:
         raise Invalid("the file does not hold a solved plan (solved is not true)")
     rules = plan.get("rules")

@@ -282,23 +282,33 @@ fn find_parts(dirs: &[PathBuf]) -> Result<Vec<(PathBuf, Manifest)>> {
         }
     }
     if parts.is_empty() {
-        return Err(Error::Param(
-            "no part-i-of-N.jsonl files in the given folders".into(),
+        let dir = dirs.first().cloned().unwrap_or_default();
+        return Err(Error::invalid(
+            &dir,
+            "no part-i-of-N.jsonl files in the given folders",
         ));
     }
     Ok(parts)
 }
 
-/// The manifest every part shares (its command, apart from `--shard`/`--out`), checked.
+/// The manifest of the merged sweep: every part must record the same sweep, configuration, seed,
+/// job count and shard count (the commands may differ in flag order or paths).
 pub fn merged_manifest(dirs: &[PathBuf]) -> Result<Manifest> {
     let parts = find_parts(dirs)?;
     let first = &parts[0].1;
+    let count = |m: &Manifest| m.shard.split('/').nth(1).map(str::to_string);
     for (path, m) in &parts {
-        if m.sweep_command() != first.sweep_command() {
+        let same = m.sweep == first.sweep
+            && m.config == first.config
+            && m.seed == first.seed
+            && m.jobs == first.jobs
+            && count(m) == count(first);
+        if !same {
             return Err(Error::invalid(
                 path,
                 format!(
-                    "comes from another sweep: `{}` vs `{}`",
+                    "comes from another sweep than the first part (sweep, configuration, seed, job \
+                     count or shard count differ): `mrpp {}` vs `mrpp {}`",
                     m.sweep_command().join(" "),
                     first.sweep_command().join(" ")
                 ),
@@ -327,11 +337,15 @@ pub fn merge_parts<S: Sweep>(sweep: &S, dirs: &[PathBuf]) -> Result<Numbered<S::
     }
     let missing: Vec<usize> = (0..total).filter(|&j| rows[j].is_none()).collect();
     if let Some(&j) = missing.first() {
-        return Err(Error::Param(format!(
-            "{} of {total} jobs are in no part (first: job {j}, `{}`); run the missing shards first",
-            missing.len(),
-            sweep.key(&sweep.jobs()[j])
-        )));
+        let dir = dirs.first().cloned().unwrap_or_default();
+        return Err(Error::invalid(
+            &dir,
+            format!(
+                "{} of {total} jobs are in no part (first: job {j}, `{}`); run the missing shards first",
+                missing.len(),
+                sweep.key(&sweep.jobs()[j])
+            ),
+        ));
     }
     Ok(rows
         .into_iter()

@@ -84,6 +84,16 @@ pub struct PlannerSpec {
 }
 
 impl SweepConfig {
+    /// A configuration as a manifest recorded it ([`Sweep::config`] of a [`GridSweep`]: TOML with
+    /// the paths as resolved), so a merge rebuilds exactly the sweep its parts ran.
+    pub fn from_recorded(text: &str) -> Result<Self> {
+        toml::from_str(text).map_err(|e| {
+            Error::Internal(format!(
+                "a recorded sweep configuration does not read back: {e}"
+            ))
+        })
+    }
+
     /// Reads a TOML sweep; relative paths in it are taken from the file's folder.
     pub fn load(path: &Path) -> Result<Self> {
         let text = read_file(path)?;

@@ -97,9 +97,13 @@ impl RunArgs {
     }
 }
 
-/// Runs a sweep (or, with `merge`, joins its parts).
+/// Runs a sweep (or, with `merge`, joins its parts: the sweep is rebuilt from the configuration
+/// the parts recorded, not from the files named on their command line).
 pub(crate) fn run(args: RunArgs, merge: Option<Mode>) -> Result<u8, Fail> {
-    let cfg = args.config()?;
+    let cfg = match &merge {
+        Some(Mode::Merge { manifest, .. }) => SweepConfig::from_recorded(&manifest.config)?,
+        _ => args.config()?,
+    };
     let seed = cfg.seed;
     let sweep = GridSweep::new(cfg)?;
     let mode = merge.unwrap_or(Mode::run(args.shard, args.out));

@@ -23,6 +23,7 @@ use crate::progress;
 pub(crate) static FAMILIES: &[&dyn Family] = &[
     &crate::grid_family::GRID,
     &crate::tree_family::TREES,
+    &crate::formation_family::FORMATION,
     #[cfg(test)]
     &crate::toy_family::TOY,
     #[cfg(test)]
@@ -46,8 +47,12 @@ pub(crate) struct Inputs {
     /// Tree instance JSON: {"nodes": N, "edges": [[u, v], ...], "robots": [{"start", "goal"}]}.
     #[arg(long)]
     pub(crate) instance: Option<PathBuf>,
-    /// The world file of families that have one file (e.g. the test family).
+    /// Formation file JSON: {"map": polygon map, "robots": R, "start": [x, y], "goal": [x, y],
+    /// "radius", "cost": {"model": "lanes"|"waves"|"hard"}}.
     #[arg(long)]
+    pub(crate) formation: Option<PathBuf>,
+    /// The world file of families that have one (for now only the test family; hidden).
+    #[arg(long, hide = true)]
     pub(crate) world: Option<PathBuf>,
     /// Trees: forbid following (entering a node another robot leaves in the same step).
     #[arg(long)]
@@ -318,7 +323,11 @@ fn validate_with<P: Problem + 'static>(
         .map_err(|v| Fail(format!("{}: invalid plan: {v}", plan_path.display())))?;
     let actual = metrics_object(&m);
     for (k, real) in &actual {
-        if let Some(claim) = read.claims.get(k).filter(|c| !c.is_null() && *c != real) {
+        if let Some(claim) = read
+            .claims
+            .get(k)
+            .filter(|c| !c.is_null() && !same_number(c, real))
+        {
             return Err(Fail(format!(
                 "{}: plan claims {k} {claim} but its paths give {real}",
                 plan_path.display()
@@ -336,6 +345,17 @@ fn validate_with<P: Problem + 'static>(
         }
     );
     Ok(0)
+}
+
+/// Equal values, with floats equal to a relative 1e-9 (plan files print them rounded by
+/// whatever wrote them).
+fn same_number(a: &Value, b: &Value) -> bool {
+    match (a.as_f64(), b.as_f64()) {
+        (Some(x), Some(y)) if a.is_f64() || b.is_f64() => {
+            (x - y).abs() <= 1e-9 * x.abs().max(y.abs()).max(1.0)
+        }
+        _ => a == b,
+    }
 }
 
 /// `mrpp planners [--family F]`: every planner with its description and parameters.

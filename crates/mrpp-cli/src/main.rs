@@ -11,6 +11,7 @@ use clap::{Parser, Subcommand};
 mod bench;
 mod experiment;
 mod family;
+mod formation_family;
 mod grid_family;
 mod output;
 mod progress;
@@ -82,7 +83,8 @@ enum Command {
 struct SolveArgs {
     #[command(flatten)]
     inputs: Inputs,
-    /// Planner (`mrpp planners` lists them): hstar, ca, hca, whca, coevolution, nsga3, psw, gp.
+    /// Planner (`mrpp planners` lists them): hstar, ca, hca, whca, coevolution, nsga3, psw, gp,
+    /// sequential, ga, exact.
     #[arg(long)]
     planner: String,
     /// Planner parameter `key=value`, repeatable (unknown keys are refused with the valid ones).

@@ -28,7 +28,7 @@ pub(crate) fn time_limit(value: f64) -> Result<Duration, Fail> {
 pub(crate) fn seconds(flag: &str, value: f64) -> Result<Duration, Fail> {
     if !(value.is_finite() && value > 0.0 && value <= MAX_TIME_LIMIT) {
         return Err(Fail(format!(
-            "--{flag} must be a positive number of seconds, got {value}"
+            "--{flag} must be a positive number of seconds, at most {MAX_TIME_LIMIT}, got {value}"
         )));
     }
     Ok(Duration::from_secs_f64(value))

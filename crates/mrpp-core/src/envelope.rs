@@ -201,6 +201,22 @@ impl<E: Serialize + DeserializeOwned> Envelope<E> {
     }
 }
 
+/// Refuses a plan file whose `family` (when it has one) is not `family`, before its paths are
+/// read as that family's elements: `<path>: this is a <f> plan; ...`. Text that is not a JSON
+/// object is left to the family's own parser (which names the line).
+pub fn check_family(text: &str, family: &str, path: &Path) -> Result<()> {
+    let Ok(Value::Object(o)) = serde_json::from_str::<Value>(text) else {
+        return Ok(());
+    };
+    match o.get("family").and_then(Value::as_str) {
+        Some(f) if !f.is_empty() && f != family => Err(Error::invalid(
+            path,
+            format!("this is a {f} plan, not a {family} plan (give that family's inputs)"),
+        )),
+        _ => Ok(()),
+    }
+}
+
 /// Compact JSON of any serialisable value, with `, ` and `: ` separators (what a person reads).
 mod erased {
     pub trait Ser {

@@ -53,6 +53,7 @@ pub fn read_tree_plan(
     path: &Path,
     no_following: bool,
 ) -> Result<(MapfProblem, Plan, Envelope<u64>)> {
+    mrpp_core::envelope::check_family(text, crate::FAMILY, path)?;
     let env: Envelope<u64> =
         Envelope::parse(text, path).map_err(|e| retag(e, "not a tree plan"))?;
     let mut rules = mapf_rules(&env, Rules::visit(true), path)?;

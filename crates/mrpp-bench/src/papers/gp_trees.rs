@@ -136,59 +136,85 @@ pub fn draw_problem(
     Ok((depth, t))
 }
 
-/// PSW's run on one problem: time steps when solved (validated), and the number of swaps. PSW's
-/// internals run directly (for the swap count) and the plan goes through [`accept`].
-fn run_psw(cfg: &GpExperimentConfig, t: &TreeInstance) -> Result<(Option<u64>, usize)> {
+/// One planner's run on one problem, as its run record needs it.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct MethodRun {
+    /// `solved`, `time_limit` or `gave_up`.
+    pub status: String,
+    pub seed: u64,
+    pub sum_of_costs: Option<u64>,
+    /// The time steps (τ; the makespan under `visit` semantics).
+    pub makespan: Option<u64>,
+    pub sum_of_moves: Option<u64>,
+    pub runtime_ms: f64,
+}
+
+/// The run record of a validated outcome; a plan the validator rejected is an internal error (a
+/// bug), an honest "not solved" keeps its status.
+fn method_run(
+    outcome: std::result::Result<mrpp_core::Solved<mrpp_core::MapfProblem>, Unsolved>,
+    seed: u64,
+    runtime_ms: f64,
+) -> Result<MethodRun> {
+    match outcome {
+        Ok(s) => Ok(MethodRun {
+            status: "solved".into(),
+            seed,
+            sum_of_costs: Some(s.metrics.sum_of_costs),
+            makespan: Some(s.metrics.makespan),
+            sum_of_moves: Some(s.metrics.sum_of_moves),
+            runtime_ms,
+        }),
+        Err(Unsolved::Invalid(why)) => Err(Error::Internal(why)),
+        Err(why) => Ok(MethodRun {
+            status: why.status().into(),
+            seed,
+            runtime_ms,
+            ..MethodRun::default()
+        }),
+    }
+}
+
+/// PSW's run on one problem (validated when solved) and its number of swaps. PSW's internals run
+/// directly (for the swap count) and the plan goes through [`accept`].
+fn run_psw(cfg: &GpExperimentConfig, t: &TreeInstance) -> Result<(MethodRun, usize)> {
     let started = Instant::now();
     let run = cfg
         .psw
         .run(&t.graph, &t.instance, Deadline::after(cfg.run_time_limit));
-    let steps = if run.solved() {
-        let problem = tree_problem(t, cfg.psw.allow_following);
-        Some(time_steps(accept(
-            &problem,
-            Plan::new(run.paths),
-            mrpp_trees::psw::NAME,
-            started.elapsed(),
-        ))?)
-    } else {
-        None
+    let ms = started.elapsed().as_secs_f64() * 1e3;
+    let swaps = run.swaps.len();
+    let outcome = match run.stop {
+        mrpp_trees::psw::Stop::Solved => {
+            let problem = tree_problem(t, cfg.psw.allow_following);
+            accept(
+                &problem,
+                Plan::new(run.paths),
+                mrpp_trees::psw::NAME,
+                started.elapsed(),
+            )
+        }
+        mrpp_trees::psw::Stop::TimeLimit => Err(Unsolved::TimeLimit),
+        _ => Err(Unsolved::GaveUp("PSW did not solve the problem".into())),
     };
-    Ok((steps, run.swaps.len()))
+    Ok((method_run(outcome, 0, ms)?, swaps))
 }
 
-/// The time steps of a validated plan (the makespan under `visit` semantics); a plan the
-/// validator rejected is an internal error (a bug), an honest "not solved" is `None`.
-fn time_steps(
-    outcome: std::result::Result<mrpp_core::Solved<mrpp_core::MapfProblem>, Unsolved>,
-) -> Result<u64> {
-    match outcome {
-        Ok(s) => Ok(s.metrics.makespan),
-        Err(why) => Err(Error::Internal(why.to_string())),
-    }
-}
-
-/// Runs `program` on a test problem; time steps when it solves (validated).
+/// Runs `program` on a test problem (validated when it solves).
 fn run_program_on(
     cfg: &GpExperimentConfig,
     program: &Program,
     t: &TreeInstance,
     problem: &Problem,
-) -> Result<Option<u64>> {
+) -> Result<MethodRun> {
     let started = Instant::now();
     let deadline = Deadline::after(cfg.run_time_limit);
-    match plan_program(program, problem, &cfg.params.sim, deadline) {
-        Ok((plan, _)) => {
+    let outcome =
+        plan_program(program, problem, &cfg.params.sim, deadline).and_then(|(plan, _)| {
             let judged = tree_problem(t, cfg.params.sim.allow_following);
-            Ok(Some(time_steps(accept(
-                &judged,
-                plan,
-                mrpp_trees::gp::NAME,
-                started.elapsed(),
-            ))?))
-        }
-        Err(_) => Ok(None),
-    }
+            accept(&judged, plan, mrpp_trees::gp::NAME, started.elapsed())
+        });
+    method_run(outcome, 0, started.elapsed().as_secs_f64() * 1e3)
 }
 
 /// Who needed fewer time steps on one problem (a method that did not solve it loses).
@@ -232,6 +258,11 @@ pub struct ProblemRow {
     pub gp_seconds: f64,
     /// ψ*, one line, when one solved the problem.
     pub program: Option<String>,
+    /// The two runs as records need them.
+    #[serde(default)]
+    pub psw_run: MethodRun,
+    #[serde(default)]
+    pub gp_run: MethodRun,
 }
 
 impl ProblemRow {
@@ -249,7 +280,8 @@ fn per_problem(
     multiplier: Option<f64>,
 ) -> Result<ProblemRow> {
     let (depth, t) = draw_problem(cfg.seed, set, index, &cfg.train_depths, robots)?;
-    let (psw_steps, psw_swaps) = run_psw(cfg, &t)?;
+    let (psw_run, psw_swaps) = run_psw(cfg, &t)?;
+    let psw_steps = psw_run.makespan;
     let started = Instant::now();
     let deadline = cfg
         .evolve_time_limit
@@ -262,6 +294,7 @@ fn per_problem(
         &Ctx::new(gp_seed, deadline),
     );
     let gp_seconds = started.elapsed().as_secs_f64();
+    let gp_run = method_run(outcome, gp_seed, gp_seconds * 1e3)?;
     let problem = Problem::from_tree_instance(&t);
     let mut row = ProblemRow {
         multiplier,
@@ -278,9 +311,11 @@ fn per_problem(
         gp_evaluations: 0,
         gp_seconds,
         program: None,
+        psw_run,
+        gp_run: gp_run.clone(),
     };
     if let Some(s) = planner.evolved() {
-        row.gp_steps = Some(time_steps(outcome)?);
+        row.gp_steps = gp_run.makespan;
         row.gp_generations = s.result.generations;
         row.gp_evaluations = s.result.evaluations;
         row.program = Some(s.program.to_string());
@@ -361,6 +396,11 @@ pub struct TestRow {
     pub psw_steps: Option<u64>,
     pub psw_swaps: usize,
     pub gp_steps: Option<u64>,
+    /// The two runs as records need them.
+    #[serde(default)]
+    pub psw_run: MethodRun,
+    #[serde(default)]
+    pub gp_run: MethodRun,
 }
 
 /// One (|X|, trial) of Table 4 (§7.3): a program evolved on |X| training problems, run on
@@ -416,9 +456,9 @@ fn table4_trial(
                 &cfg.test_depths,
                 RobotCount::LeavesMinusOne,
             )?;
-            let (psw_steps, psw_swaps) = run_psw(cfg, &t)?;
+            let (psw_run, psw_swaps) = run_psw(cfg, &t)?;
             let problem = Problem::from_tree_instance(&t);
-            let gp_steps = run_program_on(cfg, &program, &t, &problem)?;
+            let gp_run = run_program_on(cfg, &program, &t, &problem)?;
             Ok(TestRow {
                 train_size: x,
                 trial,
@@ -427,9 +467,11 @@ fn table4_trial(
                 nodes: t.num_nodes(),
                 robots: t.num_robots(),
                 lower_bound: problem.lower_bound(),
-                psw_steps,
+                psw_steps: psw_run.makespan,
                 psw_swaps,
-                gp_steps,
+                gp_steps: gp_run.makespan,
+                psw_run,
+                gp_run,
             })
         })
         .collect::<Result<Vec<_>>>()?;
@@ -542,11 +584,10 @@ fn gp_params_text(p: &GpParams) -> String {
 fn pair_records(
     instance: String,
     gp_params: String,
-    psw: Option<u64>,
-    gp: Option<u64>,
-    gp_seconds: f64,
+    psw: &MethodRun,
+    gp: &MethodRun,
 ) -> Vec<RunRecord> {
-    let rec = |planner: &str, params: String, steps: Option<u64>, runtime_ms: f64| RunRecord {
+    let rec = |planner: &str, params: String, m: &MethodRun| RunRecord {
         job: 0,
         key: String::new(),
         family: mrpp_trees::FAMILY.into(),
@@ -554,16 +595,16 @@ fn pair_records(
         planner: planner.into(),
         params,
         run: 0,
-        seed: 0,
-        status: if steps.is_some() { "solved" } else { "gave_up" }.into(),
-        sum_of_costs: None,
-        makespan: steps,
-        sum_of_moves: None,
-        runtime_ms,
+        seed: m.seed,
+        status: m.status.clone(),
+        sum_of_costs: m.sum_of_costs,
+        makespan: m.makespan,
+        sum_of_moves: m.sum_of_moves,
+        runtime_ms: m.runtime_ms,
     };
     vec![
-        rec(mrpp_trees::psw::NAME, String::new(), psw, 0.0),
-        rec(mrpp_trees::gp::NAME, gp_params, gp, gp_seconds * 1e3),
+        rec(mrpp_trees::psw::NAME, String::new(), psw),
+        rec(mrpp_trees::gp::NAME, gp_params, gp),
     ]
 }
 
@@ -584,13 +625,7 @@ impl Sweep for GpTable3 {
     }
     fn records(&self, r: &ProblemRow) -> Vec<RunRecord> {
         let p = gp_params_text(&self.cfg.params);
-        pair_records(
-            format!("table3/{}", r.index),
-            p,
-            r.psw_steps,
-            r.gp_steps,
-            r.gp_seconds,
-        )
+        pair_records(format!("table3/{}", r.index), p, &r.psw_run, &r.gp_run)
     }
     fn pages(&self, rows: &[&ProblemRow], m: &Manifest) -> Result<Vec<(String, String)>> {
         gp_pages::table3(&self.cfg, rows, m)
@@ -622,7 +657,7 @@ impl Sweep for GpTable5 {
     fn records(&self, r: &ProblemRow) -> Vec<RunRecord> {
         let p = gp_params_text(&self.cfg.params);
         let instance = format!("table5/{}/{}", r.multiplier.unwrap_or(0.0), r.index);
-        pair_records(instance, p, r.psw_steps, r.gp_steps, r.gp_seconds)
+        pair_records(instance, p, &r.psw_run, &r.gp_run)
     }
     fn pages(&self, rows: &[&ProblemRow], m: &Manifest) -> Result<Vec<(String, String)>> {
         gp_pages::table5(&self.multipliers, rows, m)
@@ -661,7 +696,7 @@ impl Sweep for GpTable4 {
             .iter()
             .flat_map(|t| {
                 let instance = format!("table4/{}/{}/test/{}", t.train_size, t.trial, t.index);
-                pair_records(instance, p.clone(), t.psw_steps, t.gp_steps, 0.0)
+                pair_records(instance, p.clone(), &t.psw_run, &t.gp_run)
             })
             .collect()
     }
@@ -774,6 +809,14 @@ mod tests {
             rows.iter()
                 .map(|r| ProblemRow {
                     gp_seconds: 0.0,
+                    psw_run: MethodRun {
+                        runtime_ms: 0.0,
+                        ..r.psw_run.clone()
+                    },
+                    gp_run: MethodRun {
+                        runtime_ms: 0.0,
+                        ..r.gp_run.clone()
+                    },
                     ..r.clone()
                 })
                 .collect()

@@ -49,7 +49,11 @@ pub fn read_grid_plan(
     text: &str,
     path: &Path,
 ) -> Result<(MapfProblem, Plan, Envelope<Cell>)> {
+    mrpp_core::envelope::check_family(text, crate::FAMILY, path)?;
     let env: Envelope<Cell> = Envelope::parse(text, path)?;
+    if env.agents.is_empty() {
+        return Err(mrpp_core::Error::invalid(path, "the plan has no agents"));
+    }
     let rules = mapf_rules(&env, Rules::default(), path)?;
     let (inst, plan) = mapf_plan(
         &env,

@@ -1,0 +1,181 @@
+//! The formation family from the command line: every planner's plan on a bundled formation is
+//! valid for `mrpp validate` and for the independent checker (`tools/check/formation.py`), with
+//! the same c_max; `exact` is never worse than `ga`, nor `ga` than `sequential`; malformed polygon
+//! maps are one-line errors naming file and line.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("mrpp-formation-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn mrpp(args: &[&str]) -> (i32, String, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_mrpp"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .unwrap();
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+fn c_max(line: &str) -> f64 {
+    line.split(" | ")
+        .find_map(|p| {
+            p.trim()
+                .trim_start_matches("solved: ")
+                .trim_start_matches("valid: 3 agents")
+                .strip_prefix("c_max ")
+        })
+        .or_else(|| {
+            line.split("c_max ")
+                .nth(1)
+                .and_then(|r| r.split(' ').next())
+        })
+        .unwrap_or_else(|| panic!("no c_max in `{line}`"))
+        .parse()
+        .unwrap()
+}
+
+#[test]
+fn planners_plans_validate_and_agree_with_the_checker() {
+    let f = "data/formation/var_density2-3.json";
+    let mut costs = Vec::new();
+    for planner in ["sequential", "ga", "exact"] {
+        let out = tmp(&format!("{planner}.json"));
+        let (code, stdout, err) = mrpp(&[
+            "solve",
+            "--formation",
+            f,
+            "--planner",
+            planner,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{planner}: {stdout}{err}");
+        let (code, valid, err) = mrpp(&[
+            "validate",
+            "--formation",
+            f,
+            "--plan",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{planner}: {err}");
+        let ours = c_max(&valid);
+        let o = Command::new("python3")
+            .arg(root().join("tools/check/formation.py"))
+            .arg(&out)
+            .output()
+            .unwrap();
+        let line = String::from_utf8_lossy(&o.stdout).trim().to_string();
+        let v: serde_json::Value = serde_json::from_str(&line).unwrap();
+        assert!(
+            o.status.success() && v["valid"] == true,
+            "{planner}: {line}"
+        );
+        let theirs = v["c_max"].as_f64().unwrap();
+        assert!(
+            (ours - theirs).abs() < 1e-9 * ours,
+            "{planner}: mrpp {ours} checker {theirs}"
+        );
+        costs.push(ours);
+    }
+    assert!(
+        costs[2] <= costs[1] + 1e-9 && costs[1] <= costs[0] + 1e-9,
+        "{costs:?}"
+    );
+    let svg = tmp("plan.svg");
+    let plan = tmp("ga.json");
+    let (code, _, err) = mrpp(&[
+        "render",
+        "--formation",
+        f,
+        "--plan",
+        plan.to_str().unwrap(),
+        "--out",
+        svg.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(std::fs::read_to_string(&svg).unwrap().contains("<polyline"));
+}
+
+#[test]
+fn malformed_polygon_maps_are_one_line_errors() {
+    let border = "[BORDER]\n0 0\n10 0\n10 10\n0 10\n";
+    let cases = [
+        (
+            format!("{border}[OBSTACLE]\n1 1\n2 2\n"),
+            ":6:",
+            "at least 3",
+        ),
+        (
+            format!("{border}[OBSTACLE]\n1 1\n3 1\n1 3\n3 3\n"),
+            ":6:",
+            "intersects itself",
+        ),
+        (
+            format!("{border}[OBSTACLE]\n1 1\n20 1\n1 3\n"),
+            ":6:",
+            "outside the border",
+        ),
+        (format!("{border}[HOLE]\n1 1\n"), ":6:", "unknown section"),
+        (format!("{border}[OBSTACLE]\n1 x\n"), ":7:", "not a number"),
+        (
+            format!("{border}[OBSTACLE]\n1 1\n1 1\n3 3\n"),
+            ":6:",
+            "coincide",
+        ),
+    ];
+    for (i, (text, line, needle)) in cases.iter().enumerate() {
+        let map = tmp(&format!("bad{i}.txt"));
+        std::fs::write(&map, text).unwrap();
+        let f = tmp(&format!("bad{i}.json"));
+        std::fs::write(
+            &f,
+            format!(
+                r#"{{"map": "{}", "robots": 2, "start": [0.5, 0.5], "goal": [9, 9]}}"#,
+                map.file_name().unwrap().to_str().unwrap()
+            ),
+        )
+        .unwrap();
+        let (code, _, err) = mrpp(&["info", "--formation", f.to_str().unwrap()]);
+        assert_eq!(code, 1, "{err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(
+            err.contains(&format!("bad{i}.txt{line}")) && err.contains(needle),
+            "{err}"
+        );
+        assert!(!err.contains("panicked"));
+    }
+    // A start inside an obstacle of gaps.txt (x 7.84..11.52, y 0..8.32 after scaling).
+    let f = tmp("walled.json");
+    let map = root().join("data/polygon-maps/gaps.txt");
+    let text = format!(
+        r#"{{"map": {:?}, "robots": 2, "start": [9, 2], "goal": [30, 30]}}"#,
+        map.to_str().unwrap()
+    );
+    std::fs::write(&f, text).unwrap();
+    let (code, _, err) = mrpp(&[
+        "solve",
+        "--formation",
+        f.to_str().unwrap(),
+        "--planner",
+        "ga",
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(
+        err.contains("walled.json") && err.contains("not in free space"),
+        "{err}"
+    );
+    assert!(Path::new(&map).exists());
+}

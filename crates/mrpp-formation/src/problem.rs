@@ -1,0 +1,461 @@
+//! The formation problem, its plans and its validator (the GA paper's §2.1).
+//!
+//! R identical robots start together at `Q_ini` and must all reach `Q_goal`; a plan is one roadmap
+//! path per robot (a vertex sequence). The paper's rules, as the validator applies them:
+//! - every path starts at `Q_ini`, ends at `Q_goal`, follows roadmap edges and visits no vertex
+//!   twice (a path with a loop is never better and makes the waiting rule ambiguous);
+//! - **no two robots cross one edge in opposite directions** (the paper's collision:
+//!   `(p_i(m), p_i(m+1)) = (p_j(l+1), p_j(l))`);
+//! - **the first robot at a shared vertex waits for the others** that have the vertex on their
+//!   path, so the robots that use an edge leave its tail together and cross it as one group of
+//!   `n_e` robots, taking `c_e(n_e)` ([`crate::cost`]);
+//! - the waiting must be possible: the shared vertices may not be visited in orders that make
+//!   robots wait for each other in a circle (the union of the paths, as a directed graph, has no
+//!   cycle).
+//!
+//! Timing: `T(Q_ini) = 0`; for every other vertex `v` on some path,
+//! `T(v) = max over robots i through v of T(pred_i(v)) + c_e(n_e)` for the edge `e` from the
+//! predecessor. Robot `i`'s cost `c_i` is its arrival time at `Q_goal` (waits at earlier merges
+//! included), and the plan's cost is the worst, `c_max = T(Q_goal)` — the paper's
+//! "the cost of the whole solution is that of the worst path".
+
+use std::sync::Arc;
+
+use rustc_hash::FxHashMap;
+use serde::Serialize;
+
+use crate::cost::CostModel;
+use crate::roadmap::Roadmap;
+use mrpp_core::Problem;
+
+/// A formation problem on a roadmap.
+#[derive(Debug, Clone)]
+pub struct FormationProblem {
+    roadmap: Arc<Roadmap>,
+    robots: usize,
+    start: u32,
+    goal: u32,
+    cost: CostModel,
+    radius: f64,
+    /// `table[e][r]` = `c_e(r)` for `r` in `0..=robots`.
+    table: Vec<Vec<f64>>,
+}
+
+/// One roadmap path per robot.
+#[derive(Debug, Clone, PartialEq, Eq, Default)]
+pub struct FormationPlan {
+    pub paths: Vec<Vec<u32>>,
+}
+
+/// What the validator measures on a valid plan.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct FormationMetrics {
+    /// The worst robot's arrival time at `Q_goal`: the plan's cost.
+    pub c_max: f64,
+    /// The sum of the robots' arrival times.
+    pub sum_of_costs: f64,
+    /// How many different paths the formation uses (1 = it never splits).
+    pub distinct_paths: usize,
+}
+
+/// The first rule a plan breaks.
+#[derive(Debug, Clone, PartialEq)]
+pub enum FormationViolation {
+    RobotCount {
+        plan: usize,
+        problem: usize,
+    },
+    WrongEnds {
+        robot: usize,
+    },
+    NotAnEdge {
+        robot: usize,
+        step: usize,
+        from: u32,
+        to: u32,
+    },
+    Revisit {
+        robot: usize,
+        vertex: u32,
+    },
+    OppositeDirections {
+        a: usize,
+        b: usize,
+        from: u32,
+        to: u32,
+    },
+    CircularWait {
+        vertex: u32,
+    },
+}
+
+impl std::fmt::Display for FormationViolation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match *self {
+            Self::RobotCount { plan, problem } => {
+                write!(
+                    f,
+                    "the plan has {plan} paths but the formation has {problem} robots"
+                )
+            }
+            Self::WrongEnds { robot } => {
+                write!(f, "robot {robot}'s path does not go from Q_ini to Q_goal")
+            }
+            Self::NotAnEdge {
+                robot,
+                step,
+                from,
+                to,
+            } => write!(
+                f,
+                "robot {robot} jumps from vertex {from} to {to} at step {step} (no roadmap edge)"
+            ),
+            Self::Revisit { robot, vertex } => {
+                write!(f, "robot {robot} visits vertex {vertex} twice")
+            }
+            Self::OppositeDirections { a, b, from, to } => write!(
+                f,
+                "robots {a} and {b} cross the edge {from}-{to} in opposite directions"
+            ),
+            Self::CircularWait { vertex } => write!(
+                f,
+                "the robots would wait for each other in a circle (through vertex {vertex})"
+            ),
+        }
+    }
+}
+
+/// Per-robot arrival times and the plan's cost.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Evaluation {
+    pub per_robot: Vec<f64>,
+    pub c_max: f64,
+}
+
+impl FormationProblem {
+    /// A problem for `robots` robots of radius `radius` from vertex `start` to `goal`.
+    ///
+    /// # Errors
+    /// A message when `robots` is 0 or a vertex is not on the roadmap.
+    pub fn new(
+        roadmap: Arc<Roadmap>,
+        robots: usize,
+        start: u32,
+        goal: u32,
+        cost: CostModel,
+        radius: f64,
+    ) -> Result<Self, String> {
+        let n = roadmap.num_vertices() as u32;
+        if robots == 0 {
+            return Err("a formation needs at least one robot".into());
+        }
+        if start >= n || goal >= n {
+            return Err(format!(
+                "Q_ini {start} or Q_goal {goal} is not one of the roadmap's {n} vertices"
+            ));
+        }
+        let table = roadmap
+            .edges
+            .iter()
+            .map(|e| (0..=robots).map(|r| cost.cost(e, r, radius)).collect())
+            .collect();
+        Ok(FormationProblem {
+            roadmap,
+            robots,
+            start,
+            goal,
+            cost,
+            radius,
+            table,
+        })
+    }
+
+    pub fn roadmap(&self) -> &Roadmap {
+        &self.roadmap
+    }
+    pub fn roadmap_arc(&self) -> &Arc<Roadmap> {
+        &self.roadmap
+    }
+    pub fn robots(&self) -> usize {
+        self.robots
+    }
+    pub fn start(&self) -> u32 {
+        self.start
+    }
+    pub fn goal(&self) -> u32 {
+        self.goal
+    }
+    pub fn cost_model(&self) -> CostModel {
+        self.cost
+    }
+    pub fn radius(&self) -> f64 {
+        self.radius
+    }
+
+    /// `c_e(r)` (`r ≤ robots`).
+    #[inline]
+    pub fn edge_cost(&self, e: u32, r: usize) -> f64 {
+        self.table[e as usize][r.min(self.robots)]
+    }
+
+    /// The timing of `paths` (any number of them, e.g. part of a plan) under the paper's rules,
+    /// or the first rule they break.
+    pub fn evaluate(&self, paths: &[Vec<u32>]) -> Result<Evaluation, FormationViolation> {
+        let edges = self.path_edges(paths)?;
+        // Directed use of each edge: (robots u→v, robots v→u, first robot of each).
+        let mut usage: FxHashMap<u32, (usize, usize, usize, usize)> = FxHashMap::default();
+        for (i, es) in edges.iter().enumerate() {
+            for &(e, forward) in es {
+                let u = usage.entry(e).or_insert((0, 0, usize::MAX, usize::MAX));
+                if forward {
+                    u.0 += 1;
+                    u.2 = u.2.min(i);
+                } else {
+                    u.1 += 1;
+                    u.3 = u.3.min(i);
+                }
+                if u.0 > 0 && u.1 > 0 {
+                    let edge = &self.roadmap.edges[e as usize];
+                    let (a, b) = (u.2.min(u.3), u.2.max(u.3));
+                    return Err(FormationViolation::OppositeDirections {
+                        a,
+                        b,
+                        from: edge.u,
+                        to: edge.v,
+                    });
+                }
+            }
+        }
+        let times = self.event_times(paths, &edges, &usage)?;
+        let per_robot: Vec<f64> = paths
+            .iter()
+            .zip(&edges)
+            .map(|(p, es)| match es.last() {
+                None => 0.0,
+                Some(&(e, _)) => {
+                    let pred = p[p.len() - 2];
+                    let n = usage[&e].0 + usage[&e].1;
+                    times[&pred] + self.edge_cost(e, n)
+                }
+            })
+            .collect();
+        let c_max = per_robot.iter().copied().fold(0.0, f64::max);
+        Ok(Evaluation { per_robot, c_max })
+    }
+
+    /// Each path's edges `(edge id, forward)`, after checking ends, edges and revisits.
+    #[allow(clippy::type_complexity)]
+    fn path_edges(&self, paths: &[Vec<u32>]) -> Result<Vec<Vec<(u32, bool)>>, FormationViolation> {
+        let mut out = Vec::with_capacity(paths.len());
+        for (i, p) in paths.iter().enumerate() {
+            if p.first() != Some(&self.start) || p.last() != Some(&self.goal) {
+                return Err(FormationViolation::WrongEnds { robot: i });
+            }
+            let mut seen: FxHashMap<u32, ()> = FxHashMap::default();
+            for &v in p {
+                if seen.insert(v, ()).is_some() {
+                    return Err(FormationViolation::Revisit {
+                        robot: i,
+                        vertex: v,
+                    });
+                }
+            }
+            let mut es = Vec::with_capacity(p.len());
+            for (step, w) in p.windows(2).enumerate() {
+                let e =
+                    self.roadmap
+                        .edge_between(w[0], w[1])
+                        .ok_or(FormationViolation::NotAnEdge {
+                            robot: i,
+                            step: step + 1,
+                            from: w[0],
+                            to: w[1],
+                        })?;
+                es.push((e, self.roadmap.edges[e as usize].u == w[0]));
+            }
+            out.push(es);
+        }
+        Ok(out)
+    }
+
+    /// `T(v)` for every vertex on a path (longest path in the union DAG), or a circular wait.
+    fn event_times(
+        &self,
+        paths: &[Vec<u32>],
+        edges: &[Vec<(u32, bool)>],
+        usage: &FxHashMap<u32, (usize, usize, usize, usize)>,
+    ) -> Result<FxHashMap<u32, f64>, FormationViolation> {
+        // The union graph: distinct arcs a→b with their group cost.
+        let mut arcs: FxHashMap<(u32, u32), f64> = FxHashMap::default();
+        for (p, es) in paths.iter().zip(edges) {
+            for (w, &(e, _)) in p.windows(2).zip(es) {
+                let n = usage[&e].0 + usage[&e].1;
+                arcs.insert((w[0], w[1]), self.edge_cost(e, n));
+            }
+        }
+        let mut indeg: FxHashMap<u32, usize> = FxHashMap::default();
+        let mut out: FxHashMap<u32, Vec<(u32, f64)>> = FxHashMap::default();
+        for p in paths {
+            for &v in p {
+                indeg.entry(v).or_insert(0);
+            }
+        }
+        let mut arc_list: Vec<(&(u32, u32), &f64)> = arcs.iter().collect();
+        arc_list.sort_by_key(|(k, _)| **k);
+        for (&(a, b), &c) in arc_list {
+            *indeg.get_mut(&b).expect("vertex of a path") += 1;
+            out.entry(a).or_default().push((b, c));
+        }
+        let mut times: FxHashMap<u32, f64> = indeg.keys().map(|&v| (v, 0.0)).collect();
+        let mut ready: Vec<u32> = indeg
+            .iter()
+            .filter(|(_, d)| **d == 0)
+            .map(|(v, _)| *v)
+            .collect();
+        let mut done = 0;
+        while let Some(a) = ready.pop() {
+            done += 1;
+            let ta = times[&a];
+            for &(b, c) in out.get(&a).map(Vec::as_slice).unwrap_or(&[]) {
+                let tb = times.get_mut(&b).expect("vertex of a path");
+                *tb = tb.max(ta + c);
+                let d = indeg.get_mut(&b).expect("vertex of a path");
+                *d -= 1;
+                if *d == 0 {
+                    ready.push(b);
+                }
+            }
+        }
+        if done < indeg.len() {
+            let stuck = indeg
+                .iter()
+                .filter(|(_, d)| **d > 0)
+                .map(|(v, _)| *v)
+                .min()
+                .unwrap_or(0);
+            return Err(FormationViolation::CircularWait { vertex: stuck });
+        }
+        Ok(times)
+    }
+
+    /// The metrics of a full plan (any number of paths accepted here; `validate` checks the count).
+    pub fn metrics(&self, plan: &FormationPlan) -> Result<FormationMetrics, FormationViolation> {
+        let ev = self.evaluate(&plan.paths)?;
+        let mut distinct = plan.paths.clone();
+        distinct.sort();
+        distinct.dedup();
+        Ok(FormationMetrics {
+            c_max: ev.c_max,
+            sum_of_costs: ev.per_robot.iter().sum(),
+            distinct_paths: distinct.len(),
+        })
+    }
+}
+
+impl Problem for FormationProblem {
+    type Plan = FormationPlan;
+    type Metrics = FormationMetrics;
+    type Violation = FormationViolation;
+
+    fn num_agents(&self) -> usize {
+        self.robots
+    }
+
+    fn validate(&self, plan: &FormationPlan) -> Result<FormationMetrics, FormationViolation> {
+        if plan.paths.len() != self.robots {
+            return Err(FormationViolation::RobotCount {
+                plan: plan.paths.len(),
+                problem: self.robots,
+            });
+        }
+        self.metrics(plan)
+    }
+}
+
+#[cfg(test)]
+pub(crate) mod tests {
+    use super::*;
+
+    /// The hard-capacity test of the sequential planner's reconstruction: S=0, A=1, B=2, G=3;
+    /// S–A, A–G length 1 capacity 1; S–B, B–G length 1.5 capacity 3.
+    pub(crate) fn diamond(cost: CostModel) -> FormationProblem {
+        let pts = vec![[0.0, 0.0], [1.0, 0.0], [0.75, 1.0], [2.0, 0.0]];
+        let mut r =
+            Roadmap::from_segments(pts, &[(0, 1, 0.5), (1, 3, 0.5), (0, 2, 1.5), (2, 3, 1.5)]);
+        for (e, len) in [(0, 1.0), (1, 1.0), (2, 1.5), (3, 1.5)] {
+            r.edges[e].length = len;
+        }
+        // radius 0.4: capacity ⌊w / 1.0⌋ = 1 for width 1, 3 for width 3.
+        FormationProblem::new(Arc::new(r), 3, 0, 3, cost, 0.4).unwrap()
+    }
+
+    #[test]
+    fn timing_waits_and_shares() {
+        let p = diamond(CostModel::Hard);
+        let plan = FormationPlan {
+            paths: vec![vec![0, 1, 3], vec![0, 2, 3], vec![0, 2, 3]],
+        };
+        let m = p.validate(&plan).unwrap();
+        assert_eq!(m.c_max, 3.0);
+        assert_eq!(m.sum_of_costs, 2.0 + 3.0 + 3.0);
+        assert_eq!(m.distinct_paths, 2);
+        let all_a = FormationPlan {
+            paths: vec![vec![0, 1, 3]; 3],
+        };
+        assert!(p.validate(&all_a).unwrap().c_max.is_infinite());
+        let lanes = diamond(CostModel::default());
+        assert_eq!(lanes.validate(&all_a).unwrap().c_max, 4.0); // 2 · (1 + 0.5 · 2)
+    }
+
+    #[test]
+    fn every_rule_is_caught() {
+        let p = diamond(CostModel::Hard);
+        let bad = |paths: Vec<Vec<u32>>| p.validate(&FormationPlan { paths }).unwrap_err();
+        assert!(matches!(
+            bad(vec![vec![0, 1, 3]; 2]),
+            FormationViolation::RobotCount { .. }
+        ));
+        assert!(matches!(
+            bad(vec![vec![0, 1], vec![0, 1, 3], vec![0, 1, 3]]),
+            FormationViolation::WrongEnds { robot: 0 }
+        ));
+        assert!(matches!(
+            bad(vec![vec![0, 3], vec![0, 1, 3], vec![0, 1, 3]]),
+            FormationViolation::NotAnEdge { robot: 0, .. }
+        ));
+        assert!(matches!(
+            bad(vec![vec![0, 1, 0, 2, 3], vec![0, 1, 3], vec![0, 1, 3]]),
+            FormationViolation::Revisit { .. }
+        ));
+        let e = bad(vec![vec![0, 1, 3], vec![0, 2, 3, 1, 0, 2, 3]]);
+        assert!(matches!(e, FormationViolation::RobotCount { .. }));
+        // Opposite directions on 1–3 (robot 1 goes 0-2-3-1? not simple ends) built on a square.
+        let sq = Roadmap::from_segments(
+            vec![[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0], [2.0, 0.5]],
+            &[
+                (0, 1, 1.0),
+                (1, 2, 1.0),
+                (2, 3, 1.0),
+                (3, 0, 1.0),
+                (1, 4, 1.0),
+                (2, 4, 1.0),
+            ],
+        );
+        let q = FormationProblem::new(Arc::new(sq), 2, 0, 4, CostModel::Waves, 0.1).unwrap();
+        let e = q
+            .validate(&FormationPlan {
+                paths: vec![vec![0, 1, 2, 4], vec![0, 3, 2, 1, 4]],
+            })
+            .unwrap_err();
+        assert!(
+            matches!(e, FormationViolation::OppositeDirections { a: 0, b: 1, .. }),
+            "{e}"
+        );
+        let ok = q
+            .validate(&FormationPlan {
+                paths: vec![vec![0, 1, 4], vec![0, 3, 2, 4]],
+            })
+            .unwrap();
+        assert_eq!(ok.distinct_paths, 2);
+    }
+}
