@@ -9,6 +9,7 @@ use std::time::Duration;
 use clap::{Subcommand, ValueEnum};
 
 use mrpp_bench::Shard;
+use mrpp_bench::papers::ga_formation::{FormationConfig, GaFormation};
 use mrpp_bench::papers::gp_trees::{GpExperimentConfig, GpTable3, GpTable4, GpTable5};
 use mrpp_bench::papers::hstar_instances::Scenario2Map;
 use mrpp_bench::papers::hstar_table2::{Table2, Table2Config, table2_methods};
@@ -40,6 +41,35 @@ pub enum Experiment {
     GpTable4(GpTable4Args),
     /// Table 5 of the GP paper: % solved by GP and PSW with 0.25–1.5 × leaves robots.
     GpTable5(GpTable5Args),
+    /// The GA formation paper's Fig. 4: sequential and GA against the proven optimum on random
+    /// configurations over 7 polygon maps.
+    GaFormation(GaFormationArgs),
+}
+
+#[derive(clap::Args)]
+pub struct GaFormationArgs {
+    /// Start/goal pairs per map (default 10; --paper-settings: 95, about 2000 configurations).
+    #[arg(long)]
+    pairs: Option<usize>,
+    /// Formation sizes R (comma-separated).
+    #[arg(long, value_delimiter = ',', default_value = "1,2,3")]
+    robots: Vec<usize>,
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// The paper's scale: 95 pairs per map x 7 maps x R = 1..3.
+    #[arg(long)]
+    paper_settings: bool,
+    /// Wall-clock limit of the exact planner per configuration, in seconds.
+    #[arg(long, default_value_t = 30.0)]
+    exact_time_limit: f64,
+    /// The folder of the polygon maps (the three public maps and the gen-* stand-ins).
+    #[arg(long, default_value = "data/polygon-maps")]
+    data: PathBuf,
+    #[arg(long, default_value = "out/ga-formation")]
+    out: PathBuf,
+    /// Run only shard i of N (`i/N`); `mrpp bench merge` joins the parts.
+    #[arg(long)]
+    shard: Option<Shard>,
 }
 
 #[derive(clap::Args)]
@@ -177,7 +207,32 @@ pub fn run(cmd: Experiment, merge: Option<Mode>) -> Result<u8, Fail> {
                 "problems",
             )
         }
+        Experiment::GaFormation(a) => ga_formation(&a, merge),
     }
+}
+
+/// The GA formation experiment from its flags.
+fn ga_formation(a: &GaFormationArgs, merge: Option<Mode>) -> Result<u8, Fail> {
+    let pairs = a.pairs.unwrap_or(if a.paper_settings { 95 } else { 10 });
+    if !(1..=10_000).contains(&pairs) {
+        return Err(Fail(format!(
+            "--pairs must be between 1 and 10000, got {pairs}"
+        )));
+    }
+    let cfg = FormationConfig {
+        seed: a.seed,
+        pairs,
+        robots: a.robots.clone(),
+        exact_limit: seconds("exact-time-limit", a.exact_time_limit)?,
+        ..FormationConfig::default()
+    };
+    let mode = merge.unwrap_or(Mode::run(a.shard, a.out.clone()));
+    drive(
+        &GaFormation::new(cfg, &a.data)?,
+        &mode,
+        a.seed,
+        "configurations",
+    )
 }
 
 /// Table II from its flags.

@@ -12,6 +12,7 @@ mod bench;
 mod experiment;
 mod family;
 mod formation_family;
+mod gen_cmd;
 mod grid_family;
 mod output;
 mod progress;
@@ -65,6 +66,9 @@ enum Command {
     /// Benchmark sweeps: `bench run` (TOML config or flags, `--shard i/N`), `bench merge`.
     #[command(subcommand)]
     Bench(bench::Bench),
+    /// Problem files from seeds: polygon worlds, formation files.
+    #[command(subcommand)]
+    Gen(gen_cmd::Gen),
     /// Single-lane tree problems: generate, solve (PSW or GP), run a GP program, validate.
     #[command(subcommand)]
     Trees(tree_family::Trees),
@@ -168,6 +172,7 @@ fn run(command: Command) -> Result<u8, Fail> {
         Command::Bench(bench::Bench::Run(a)) => bench::run(a, None),
         Command::Bench(bench::Bench::Merge { out, parts }) => merge(out, parts),
         Command::Trees(t) => tree_family::run(t),
+        Command::Gen(g) => gen_cmd::run(g),
     }
 }
 

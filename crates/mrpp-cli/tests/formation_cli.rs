@@ -179,3 +179,44 @@ fn malformed_polygon_maps_are_one_line_errors() {
     );
     assert!(Path::new(&map).exists());
 }
+
+#[test]
+fn ga_formation_experiment_writes_its_page() {
+    let out = tmp("gaf");
+    let (code, stdout, err) = mrpp(&[
+        "experiment",
+        "ga-formation",
+        "--pairs",
+        "1",
+        "--robots",
+        "1,3",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stdout}{err}");
+    assert!(
+        stdout.contains("| all | 14 |") && stdout.contains("| paper |"),
+        "{stdout}"
+    );
+    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 1 + 7 * 2, "{csv}");
+    // On every configuration: optimum <= GA <= sequential.
+    for line in csv.lines().skip(1) {
+        let f: Vec<&str> = line.split(',').collect();
+        let (seq, ga, opt): (f64, f64, f64) = (
+            f[7].parse().unwrap(),
+            f[8].parse().unwrap(),
+            f[9].parse().unwrap(),
+        );
+        assert!(opt <= ga + 1e-6 && ga <= seq + 1e-6, "{line}");
+    }
+    for f in [
+        "ga-formation.md",
+        "fig4.svg",
+        "fig5.svg",
+        "records.csv",
+        "manifest.json",
+    ] {
+        assert!(out.join(f).exists(), "{f}");
+    }
+}

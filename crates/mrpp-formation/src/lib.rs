@@ -8,7 +8,8 @@
 //! corridor's cost depends on how many robots cross it together, and a plan costs its worst
 //! robot's arrival, `c_max`.
 //!
-//! - [`polymap`]: CTU/CIIRC polygon maps (parser with file:line errors);
+//! - [`polymap`]: CTU/CIIRC polygon maps (parser with file:line errors); [`generator`]: seeded
+//!   stand-ins for the maps that are not public;
 //! - [`roadmap`]: the generalized Voronoi roadmap (spade), corridors with length and clearance;
 //! - [`cost`]: cost vectors `c_e(r)` (named models);
 //! - [`problem`]: [`FormationProblem`], plans, the validator and its timing;
@@ -19,6 +20,7 @@
 
 pub mod cost;
 pub mod ga;
+pub mod generator;
 pub mod paths;
 pub mod planners;
 pub mod polymap;

@@ -218,6 +218,39 @@ pub fn read_formation_plan(
     Ok((plan, env))
 }
 
+/// A random start/goal pair for `map`: uniform points in free space with clearance at least
+/// `2 · radius`, at least half the border's diagonal apart (at most 10 000 draws; `None` when none
+/// was found).
+pub fn random_pair(
+    map: &PolygonMap,
+    radius: f64,
+    rng: &mut impl rand::Rng,
+) -> Option<(Point, Point)> {
+    use rand::RngExt;
+    let (lo, hi) = map.bounds();
+    let diag = ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2)).sqrt();
+    let draw = |rng: &mut dyn FnMut() -> f64| {
+        [
+            lo[0] + rng() * (hi[0] - lo[0]),
+            lo[1] + rng() * (hi[1] - lo[1]),
+        ]
+    };
+    let mut uniform = || rng.random::<f64>();
+    let mut free = Vec::with_capacity(2);
+    for _ in 0..10_000 {
+        let p = draw(&mut uniform);
+        if !map.is_free(p) || map.clearance(p) < 2.0 * radius {
+            continue;
+        }
+        match free.first() {
+            None => free.push(p),
+            Some(&a) if crate::roadmap::dist(a, p) >= diag / 2.0 => return Some((a, p)),
+            Some(_) => {}
+        }
+    }
+    None
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -3,8 +3,10 @@
 //!
 //! - [`hstar_table2`]: the H* paper's Table II (Enol2023, WHCA*, NSGA-III, H*), on
 //!   [`hstar_instances`] (Table I);
-//! - [`gp_trees`]: the GP paper's Tables 3–5 (GP vs Push-Swap-Wait), pages in [`gp_pages`].
+//! - [`gp_trees`]: the GP paper's Tables 3–5 (GP vs Push-Swap-Wait), pages in [`gp_pages`];
+//! - [`ga_formation`]: the GA formation paper's Fig. 4 (sequential and GA against the optimum).
 
+pub mod ga_formation;
 pub mod gp_pages;
 pub mod gp_trees;
 pub mod hstar_instances;

@@ -1,0 +1,124 @@
+//! `mrpp gen ...`: problem files from seeds — polygon worlds (stand-ins for the GA paper's maps
+//! that are not public) and formation files (random Q_ini/Q_goal on a map).
+
+use std::path::PathBuf;
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+use mrpp_formation::CostModel;
+use mrpp_formation::polymap::PolygonMap;
+use mrpp_formation::world::{Formation, FormationFile, random_pair};
+
+use crate::output::{Fail, file_name, write_atomic};
+
+#[derive(clap::Subcommand)]
+pub(crate) enum Gen {
+    /// A seeded polygon world in the CTU text format (gen-dense, gen-staggered-brick-wall,
+    /// gen-var-density, gen-var-density3); the file records its kind and seed.
+    PolygonMap {
+        #[arg(long)]
+        kind: String,
+        #[arg(long)]
+        seed: u64,
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// A formation file on a polygon map: R robots, random Q_ini and Q_goal in free space (at
+    /// least half the map's diagonal apart), radius and cost model.
+    Formation {
+        /// The polygon map (recorded relative to the output file's folder when possible).
+        #[arg(long)]
+        map: PathBuf,
+        #[arg(long)]
+        robots: usize,
+        #[arg(long)]
+        seed: u64,
+        #[arg(long, default_value_t = 0.3)]
+        radius: f64,
+        /// Cost model: lanes (with --kappa), waves or hard.
+        #[arg(long, default_value = "lanes")]
+        cost: String,
+        #[arg(long, default_value_t = 0.5)]
+        kappa: f64,
+        #[arg(long)]
+        out: PathBuf,
+    },
+}
+
+pub(crate) fn run(cmd: Gen) -> Result<u8, Fail> {
+    match cmd {
+        Gen::PolygonMap { kind, seed, out } => {
+            let text = mrpp_formation::generator::generate(&kind, seed).map_err(Fail)?;
+            write_atomic(&out, &text)?;
+            println!(
+                "mrpp {} | gen polygon-map | {kind} | seed {seed} | written to {}",
+                env!("CARGO_PKG_VERSION"),
+                out.display()
+            );
+            Ok(0)
+        }
+        Gen::Formation {
+            map,
+            robots,
+            seed,
+            radius,
+            cost,
+            kappa,
+            out,
+        } => {
+            let cost = match cost.as_str() {
+                "lanes" => CostModel::Lanes { kappa },
+                "waves" => CostModel::Waves,
+                "hard" => CostModel::Hard,
+                other => {
+                    return Err(Fail(format!(
+                        "--cost must be lanes, waves or hard, got `{other}`"
+                    )));
+                }
+            };
+            let polygons = PolygonMap::load(&map)?;
+            let mut rng = ChaCha8Rng::seed_from_u64(seed);
+            let (start, goal) = random_pair(&polygons, radius, &mut rng)
+                .ok_or_else(|| Fail(format!("{}: found no free start/goal pair", map.display())))?;
+            let file = FormationFile {
+                map: relative_map(&map, &out),
+                robots,
+                start,
+                goal,
+                radius,
+                cost,
+            };
+            // Checked like any formation file before it is written (roadmap, links).
+            let resolved = FormationFile {
+                map: map.clone(),
+                ..file.clone()
+            };
+            Formation::on(resolved, polygons, &out)?;
+            let text = serde_json::to_string_pretty(&file).map_err(|e| Fail(e.to_string()))? + "\n";
+            write_atomic(&out, &text)?;
+            println!(
+                "mrpp {} | gen formation | map {} | robots {robots} | seed {seed} | start {start:?} | goal {goal:?} | written to {}",
+                env!("CARGO_PKG_VERSION"),
+                file_name(&map),
+                out.display()
+            );
+            Ok(0)
+        }
+    }
+}
+
+/// The map's path as the formation file should record it: relative to the file's folder when
+/// both are relative paths, else as given.
+fn relative_map(map: &std::path::Path, out: &std::path::Path) -> PathBuf {
+    let dir = out.parent().unwrap_or(std::path::Path::new(""));
+    if map.is_absolute() || dir.is_absolute() {
+        return std::fs::canonicalize(map).unwrap_or_else(|_| map.to_path_buf());
+    }
+    let ups = dir.components().count();
+    let mut p = PathBuf::new();
+    for _ in 0..ups {
+        p.push("..");
+    }
+    p.join(map)
+}
