@@ -236,17 +236,19 @@ pub fn random_pair(
         ]
     };
     let mut uniform = || rng.random::<f64>();
-    let mut free = Vec::with_capacity(2);
+    let mut free: Vec<Point> = Vec::new();
     for _ in 0..10_000 {
         let p = draw(&mut uniform);
         if !map.is_free(p) || map.clearance(p) < 2.0 * radius {
             continue;
         }
-        match free.first() {
-            None => free.push(p),
-            Some(&a) if crate::roadmap::dist(a, p) >= diag / 2.0 => return Some((a, p)),
-            Some(_) => {}
+        if let Some(&a) = free
+            .iter()
+            .find(|&&a| crate::roadmap::dist(a, p) >= diag / 2.0)
+        {
+            return Some((a, p));
         }
+        free.push(p);
     }
     None
 }
