@@ -9,11 +9,13 @@
 //!   the robot takes the first robot's path instead, so the planner always returns a valid plan.
 //! - [`Exact`] — the optimum `c_max`, proven by branch and bound. Every path of an optimal plan
 //!   costs at least its length (costs never fall below `c_e(1) = ℓ_e`), so the candidate paths are
-//!   the simple paths no longer than the sequential planner's `c_max` (Yen's algorithm, shortest
+//!   the simple paths no longer than the best known `c_max` (Yen's algorithm, shortest
 //!   first). Robots are identical, so a plan is a multiset of candidates, searched depth-first
 //!   with non-decreasing candidate index; adding a path never lowers `c_max` (costs are
 //!   non-decreasing in the robot count and waits only grow), so a partial plan's `c_max` bounds its
-//!   completions, and a candidate no shorter than the best `c_max` ends the loop. The paper's
+//!   completions, and a candidate no shorter than the best `c_max` ends the loop. The first bound
+//!   is the better of the sequential plan and a short GA run (30 generations, seed 0), which keeps
+//!   the candidate set small when that plan is already optimal. The paper's
 //!   exhaustive search (every simple path, every multiset) is [`brute_force`], used to check it.
 //! - [`crate::ga::Ga`] — the paper's genetic algorithm (§2.2).
 
@@ -130,13 +132,22 @@ impl Planner<FormationProblem> for Exact {
         EXACT
     }
     fn plan(&self, p: &FormationProblem, ctx: &Ctx) -> Result<FormationPlan, Unsolved> {
-        let seed = sequential_paths(p, &|_| 1.0);
-        if seed.len() < p.robots() {
+        // The first bound: the better of the sequential plan and a short GA run (both valid).
+        let seq = sequential_paths(p, &|_| 1.0);
+        if seq.len() < p.robots() {
             return Err(Unsolved::GaveUp(
                 "Q_goal cannot be reached from Q_ini on the roadmap".into(),
             ));
         }
-        let ub = p.evaluate(&seed).map(|e| e.c_max).unwrap_or(f64::INFINITY);
+        let seq_cost = p.evaluate(&seq).map(|e| e.c_max).unwrap_or(f64::INFINITY);
+        let ga = crate::ga::Ga {
+            generations: 30,
+            ..crate::ga::Ga::default()
+        };
+        let (seed, ub) = match ga.run(p, &Ctx::new(0, ctx.deadline)) {
+            Some(run) if run.c_max < seq_cost => (run.plan.paths, run.c_max),
+            _ => (seq, seq_cost),
+        };
         let bound = if ub.is_finite() { ub } else { f64::MAX };
         let (lim, dl) = (self.candidate_limit, &ctx.deadline);
         let cands = paths_up_to(p.roadmap(), p.start(), p.goal(), bound, lim, dl).map_err(
