@@ -467,3 +467,44 @@ fn fig5(t: &GaFormation, rows: &[&FormationRow]) -> Result<Option<String>> {
         Some(&plan),
     )))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::harness::{Shard, run_shard};
+
+    #[test]
+    fn rows_do_not_depend_on_the_thread_count() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/polygon-maps");
+        let cfg = FormationConfig {
+            pairs: 1,
+            robots: vec![2, 3],
+            ..FormationConfig::default()
+        };
+        let sweep = GaFormation::new(cfg, &dir).unwrap();
+        let go = |threads| {
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(threads)
+                .build()
+                .unwrap()
+                .install(|| {
+                    let (rows, _) = run_shard(&sweep, Shard::ALL, &|_| {}).unwrap();
+                    rows.into_iter()
+                        .map(|(_, r)| FormationRow {
+                            roadmap_ms: 0.0,
+                            ga_ms_per_generation: 0.0,
+                            exact_ms: 0.0,
+                            ..r
+                        })
+                        .collect::<Vec<_>>()
+                })
+        };
+        let (one, two) = (go(1), go(2));
+        assert_eq!(one, two);
+        assert_eq!(one.len(), 14);
+        assert!(one.iter().all(|r| {
+            r.optimum
+                .is_some_and(|o| o <= r.ga + 1e-9 && r.ga <= r.sequential + 1e-9)
+        }));
+    }
+}
