@@ -79,8 +79,27 @@ pub struct InstanceSpec {
 #[serde(deny_unknown_fields)]
 pub struct PlannerSpec {
     pub name: String,
-    #[serde(default)]
+    /// Parameter values: strings, numbers or booleans (`window = 8` or `window = "8"`).
+    #[serde(default, deserialize_with = "scalars")]
     pub params: BTreeMap<String, String>,
+}
+
+/// A table of scalars as text.
+fn scalars<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> std::result::Result<BTreeMap<String, String>, D::Error> {
+    let raw = BTreeMap::<String, toml::Value>::deserialize(d)?;
+    raw.into_iter()
+        .map(|(k, v)| match v {
+            toml::Value::String(s) => Ok((k, s)),
+            toml::Value::Integer(i) => Ok((k, i.to_string())),
+            toml::Value::Float(f) => Ok((k, f.to_string())),
+            toml::Value::Boolean(b) => Ok((k, b.to_string())),
+            other => Err(serde::de::Error::custom(format!(
+                "parameter `{k}` must be a string, number or boolean, not {other}"
+            ))),
+        })
+        .collect()
 }
 
 impl SweepConfig {

@@ -135,6 +135,8 @@ pub(crate) struct Def<P: Problem + 'static> {
     pub(crate) read_plan: fn(&Inputs, &Path) -> Result<ReadPlan<P>, Fail>,
     pub(crate) info: Option<InfoFn>,
     pub(crate) render: Option<RenderFn>,
+    /// Whether plans can be written as LaCAM text (grids only).
+    pub(crate) lacam: bool,
 }
 
 impl<P: Problem + 'static> Family for Def<P> {
@@ -219,6 +221,12 @@ fn solve_with<P: Problem + 'static>(def: &Def<P>, req: &SolveRequest) -> Result<
         return Err(Fail(format!(
             "planner `{}` is for {} problems, and these inputs are not (see `mrpp solve --help`)",
             req.planner, def.name
+        )));
+    }
+    if req.format == Format::Lacam && !def.lacam {
+        return Err(Fail(format!(
+            "{} plans are written as JSON only (--format json)",
+            def.name
         )));
     }
     let entry = find(def.planners, &req.planner).expect("the family has this planner");

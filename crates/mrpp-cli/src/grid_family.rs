@@ -29,6 +29,7 @@ pub(crate) const fn def() -> Def<MapfProblem> {
         read_plan,
         info: Some(info),
         render: Some(render),
+        lacam: true,
     }
 }
 

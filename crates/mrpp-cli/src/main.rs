@@ -127,7 +127,13 @@ impl SolveArgs {
             params.push(("variant".to_string(), v));
         }
         for p in &self.params {
-            params.push(mrpp_core::registry::parse_key_value(p)?);
+            let (k, v) = mrpp_core::registry::parse_key_value(p)?;
+            if params.iter().any(|(key, _)| *key == k) {
+                return Err(Fail(format!(
+                    "`{k}` is given twice (a flag and -p, or two -p)"
+                )));
+            }
+            params.push((k, v));
         }
         Ok(SolveRequest {
             inputs: self.inputs,

@@ -180,6 +180,7 @@ pub(crate) static TOY: Def<Line> = Def {
     },
     info: None,
     render: None,
+    lacam: false,
 };
 
 /// A planner that sends every agent straight to its goal, ignoring the others: on any instance

@@ -35,6 +35,7 @@ pub(crate) const fn def() -> Def<MapfProblem> {
         read_plan,
         info: None,
         render: None,
+        lacam: false,
     }
 }
 
