@@ -5,6 +5,8 @@
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
+use rustc_hash::{FxHashMap, FxHashSet};
+
 use crate::roadmap::Roadmap;
 
 /// A totally ordered f64 for heaps (weights are finite or +inf, never NaN).
@@ -153,10 +155,16 @@ pub fn paths_up_to(
         return Ok(Vec::new());
     };
     let mut found: Vec<(Vec<u32>, f64)> = Vec::new();
-    let mut candidates: Vec<(Vec<u32>, f64)> = vec![first];
+    // Candidates in a min-heap by (length, path); every path ever queued, to queue it once; per
+    // root prefix, the next vertices the found paths with that prefix took.
+    let mut heap: BinaryHeap<Reverse<(W, Vec<u32>)>> = BinaryHeap::new();
+    let mut seen: FxHashSet<Vec<u32>> = FxHashSet::default();
+    let mut next_of: FxHashMap<Vec<u32>, Vec<u32>> = FxHashMap::default();
+    seen.insert(first.0.clone());
+    heap.push(Reverse((W(first.1), first.0)));
     let eps = 1e-9 * bound.abs().max(1.0);
-    while let Some(best) = pop_best(&mut candidates) {
-        if best.1 > bound + eps {
+    while let Some(Reverse((W(cost), path))) = heap.pop() {
+        if cost > bound + eps {
             break;
         }
         if found.len() == limit {
@@ -165,17 +173,17 @@ pub fn paths_up_to(
         if deadline.expired() {
             return Err(Cut::Deadline);
         }
-        let prev = best.0.clone();
-        found.push(best);
-        for i in 0..prev.len() - 1 {
-            let root = &prev[..=i];
-            let spur = prev[i];
-            // Edges leaving the spur that earlier paths with this root took are removed.
-            let removed: Vec<u32> = found
-                .iter()
-                .filter(|(p, _)| p.len() > i + 1 && p[..=i] == *root)
-                .map(|(p, _)| p[i + 1])
-                .collect();
+        for i in 0..path.len() - 1 {
+            next_of
+                .entry(path[..=i].to_vec())
+                .or_default()
+                .push(path[i + 1]);
+        }
+        for i in 0..path.len() - 1 {
+            let root = &path[..=i];
+            let spur = path[i];
+            // Edges leaving the spur that found paths with this root took are removed.
+            let removed = next_of.get(root).map(Vec::as_slice).unwrap_or(&[]);
             let mut banned = vec![false; n];
             for &v in &root[..i] {
                 banned[v as usize] = true;
@@ -187,24 +195,18 @@ pub fn paths_up_to(
                     len(e, a, b)
                 }
             };
-            if let Some((tail, cost)) = dijkstra(r, spur, to, &banned, &w) {
+            if let Some((tail, c)) = dijkstra(r, spur, to, &banned, &w) {
                 let mut p = root[..i].to_vec();
                 p.extend(tail);
-                let total = path_length(r, &root[..=i]) + cost;
-                if !candidates.iter().any(|(c, _)| *c == p) && !found.iter().any(|(c, _)| *c == p) {
-                    candidates.push((p, total));
+                if seen.insert(p.clone()) {
+                    let total = path_length(r, &root[..=i]) + c;
+                    heap.push(Reverse((W(total), p)));
                 }
             }
         }
+        found.push((path, cost));
     }
     Ok(found)
-}
-
-/// Removes and returns the shortest candidate (ties: lexicographically smallest path).
-fn pop_best(c: &mut Vec<(Vec<u32>, f64)>) -> Option<(Vec<u32>, f64)> {
-    let i = (0..c.len())
-        .min_by(|&a, &b| c[a].1.total_cmp(&c[b].1).then_with(|| c[a].0.cmp(&c[b].0)))?;
-    Some(c.swap_remove(i))
 }
 
 #[cfg(test)]
