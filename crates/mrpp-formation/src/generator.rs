@@ -40,7 +40,7 @@ pub fn generate(kind: &str, seed: u64) -> Result<String, String> {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let obstacles = match kind {
         "gen-dense" => scatter(&mut rng, 40, &|_| 1.0, (45.0, 110.0)),
-        "gen-staggered-brick-wall" => bricks(),
+        "gen-staggered-brick-wall" => bricks(&mut rng),
         "gen-var-density" => scatter(&mut rng, 30, &|x| 0.15 + x / SIZE, (50.0, 120.0)),
         "gen-var-density3" => {
             let mut all = Vec::new();
@@ -179,9 +179,10 @@ fn star(rng: &mut ChaCha8Rng, c: Point, r: f64) -> Vec<Point> {
         .collect()
 }
 
-/// Staggered rows of 240 × 80 bricks with 100-unit gaps.
-fn bricks() -> Vec<Vec<Point>> {
-    let (w, h, gap, row_gap) = (240.0, 80.0, 100.0, 150.0);
+/// Staggered rows of 80-unit-high bricks 200–280 long with 100-unit gaps (the seed varies the
+/// brick lengths).
+fn bricks(rng: &mut ChaCha8Rng) -> Vec<Vec<Point>> {
+    let (h, gap, row_gap) = (80.0, 100.0, 150.0);
     let mut out = Vec::new();
     let mut y = 200.0;
     let mut row = 0;
@@ -189,9 +190,13 @@ fn bricks() -> Vec<Vec<Point>> {
         let mut x = if row % 2 == 0 {
             150.0
         } else {
-            150.0 + (w + gap) / 2.0
+            150.0 + (240.0 + gap) / 2.0
         };
-        while x + w < SIZE - 150.0 {
+        loop {
+            let w = 200.0 + 80.0 * rng.random::<f64>();
+            if x + w >= SIZE - 150.0 {
+                break;
+            }
             out.push(vec![[x, y], [x + w, y], [x + w, y + h], [x, y + h]]);
             x += w + gap;
         }
@@ -229,5 +234,30 @@ mod tests {
             );
         }
         assert!(generate("dense", 1).is_err());
+    }
+
+    proptest::proptest! {
+        #![proptest_config(proptest::prelude::ProptestConfig {
+            cases: 12,
+            rng_seed: proptest::test_runner::RngSeed::Fixed(20_261_130),
+            ..proptest::prelude::ProptestConfig::default()
+        })]
+
+        /// On random worlds of every kind: every corridor in free space with at least its stated
+        /// clearance, one connected roadmap, one independent cycle per obstacle.
+        #[test]
+        fn roadmaps_of_random_worlds(seed in proptest::prelude::any::<u64>(), k in 0usize..4) {
+            let text = generate(KINDS[k], seed).unwrap();
+            let map = PolygonMap::parse(&text, Path::new("g.txt")).unwrap();
+            let r = build_roadmap(&map, &RoadmapOptions { radius: 0.3, ..RoadmapOptions::default() });
+            proptest::prop_assert_eq!(r.components_and_cycles(), (1, map.obstacles.len()));
+            for e in &r.edges {
+                proptest::prop_assert!(e.clearance >= 0.3);
+                for w in e.polyline.windows(2) {
+                    proptest::prop_assert!(map.is_free(w[0]) && !map.segment_hits_boundary(w[0], w[1]));
+                    proptest::prop_assert!(crate::roadmap::segment_clearance(&map, w[0], w[1]) >= e.clearance - 1e-9);
+                }
+            }
+        }
     }
 }
