@@ -6,10 +6,13 @@
 //! - [`grid`] (`mrpp-grid`): grid MAPF (MovingAI and H*-paper files; H*, CA*/HCA*/WHCA*,
 //!   Enol2023, NSGA-III);
 //! - [`trees`] (`mrpp-trees`): single-lane trees (generator, Push-Swap-Wait, GP);
+//! - [`formation`] (`mrpp-formation`): formations on Voronoi roadmaps of polygon maps
+//!   (sequential, GA, exact);
 //! - [`evo`] (`mrpp-evo`): generic, seeded metaheuristics.
 
 pub use mrpp_core as core;
 pub use mrpp_evo as evo;
+pub use mrpp_formation as formation;
 pub use mrpp_grid as grid;
 pub use mrpp_trees as trees;
 
