@@ -13,9 +13,12 @@
 //!   first). Robots are identical, so a plan is a multiset of candidates, searched depth-first
 //!   with non-decreasing candidate index; adding a path never lowers `c_max` (costs are
 //!   non-decreasing in the robot count and waits only grow), so a partial plan's `c_max` bounds its
-//!   completions, and a candidate no shorter than the best `c_max` ends the loop. The first bound
+//!   completions — all the more when edges that every candidate uses are counted with all R
+//!   robots from the start — and a candidate no shorter than the best `c_max` ends the loop. The first bound
 //!   is the better of the sequential plan and a short GA run (30 generations, seed 0), which keeps
-//!   the candidate set small when that plan is already optimal. The paper's
+//!   the candidate set small when that plan is already optimal; then a greedy placement with
+//!   single-robot moves over the 200 shortest candidates may lower it further (large R, where
+//!   robots spread over many corridors). The paper's
 //!   exhaustive search (every simple path, every multiset) is [`brute_force`], used to check it.
 //! - [`crate::ga::Ga`] — the paper's genetic algorithm (§2.2).
 
@@ -158,6 +161,29 @@ impl Planner<FormationProblem> for Exact {
                 )),
             },
         )?;
+        // A tighter first bound when robots can spread: greedy c_max plus local moves over the
+        // shortest candidates (only lowers the bound; the search still proves the optimum).
+        let (seed, ub) = match greedy_incumbent(p, &cands[..cands.len().min(200)]) {
+            Some((plan, c)) if c < ub => (plan, c),
+            _ => (seed, ub),
+        };
+        // Edges on every candidate path carry all R robots in any plan made of candidates: the
+        // search bounds partial plans with them counted at R.
+        let mut floor = vec![0usize; p.roadmap().edges.len()];
+        if let Some((first, _)) = cands.first() {
+            for w in first.windows(2) {
+                let e = p
+                    .roadmap()
+                    .edge_between(w[0], w[1])
+                    .expect("a roadmap path");
+                let on_all = cands
+                    .iter()
+                    .all(|(q, _)| q.windows(2).any(|x| (x[0], x[1]) == (w[0], w[1])));
+                if on_all {
+                    floor[e as usize] = p.robots();
+                }
+            }
+        }
         let mut search = Search {
             p,
             cands: &cands,
@@ -165,12 +191,53 @@ impl Planner<FormationProblem> for Exact {
             best_plan: seed,
             ctx,
             steps: 0,
+            floor,
         };
         search.dfs(&mut Vec::new(), 0)?;
         Ok(FormationPlan {
             paths: search.best_plan,
         })
     }
+}
+
+/// Robots placed one by one, each on the candidate that gives the lowest `c_max` so far (ties:
+/// the shorter candidate), then single-robot moves to other candidates while one lowers `c_max`.
+fn greedy_incumbent(
+    p: &FormationProblem,
+    cands: &[(Vec<u32>, f64)],
+) -> Option<(Vec<Vec<u32>>, f64)> {
+    let cost = |paths: &[Vec<u32>]| p.evaluate(paths).map_or(f64::INFINITY, |e| e.c_max);
+    let mut chosen: Vec<Vec<u32>> = Vec::with_capacity(p.robots());
+    for _ in 0..p.robots() {
+        let mut best: Option<(f64, &Vec<u32>)> = None;
+        for (q, _) in cands {
+            chosen.push(q.clone());
+            let c = cost(&chosen);
+            chosen.pop();
+            if best.is_none_or(|b| c < b.0) {
+                best = Some((c, q));
+            }
+        }
+        chosen.push(best?.1.clone());
+    }
+    let mut current = cost(&chosen);
+    let mut improved = true;
+    while improved {
+        improved = false;
+        for i in 0..chosen.len() {
+            for (q, _) in cands {
+                let old = std::mem::replace(&mut chosen[i], q.clone());
+                let c = cost(&chosen);
+                if c < current - 1e-12 {
+                    current = c;
+                    improved = true;
+                } else {
+                    chosen[i] = old;
+                }
+            }
+        }
+    }
+    current.is_finite().then_some((chosen, current))
 }
 
 /// The branch-and-bound state.
@@ -181,6 +248,8 @@ struct Search<'a> {
     best_plan: Vec<Vec<u32>>,
     ctx: &'a Ctx,
     steps: u64,
+    /// Robots counted at least on each edge while bounding (R on edges every candidate uses).
+    floor: Vec<usize>,
 }
 
 impl Search<'_> {
@@ -195,7 +264,12 @@ impl Search<'_> {
                 return Err(Unsolved::TimeLimit);
             }
             chosen.push(self.cands[i].0.clone());
-            if let Ok(ev) = self.p.evaluate(chosen)
+            let bound = if chosen.len() == self.p.robots() {
+                self.p.evaluate(chosen)
+            } else {
+                self.p.evaluate_with_floor(chosen, &self.floor)
+            };
+            if let Ok(ev) = bound
                 && ev.c_max < self.best - eps
             {
                 if chosen.len() == self.p.robots() {
