@@ -221,7 +221,6 @@ pub fn outputs<S: Sweep>(
     shard: Shard,
     manifest: &Manifest,
 ) -> Result<Vec<(String, String)>> {
-    let json = |v: &dyn erased_serialize::Ser| v.to_json();
     if !shard.is_all() {
         let mut part = String::new();
         for (j, row) in rows {
@@ -390,16 +389,9 @@ pub fn params_text<'a>(params: impl IntoIterator<Item = (&'a str, &'a str)>) -> 
         .join(";")
 }
 
-/// Serialising a value of any type behind a `dyn` (for the one `json` helper above).
-mod erased_serialize {
-    pub trait Ser {
-        fn to_json(&self) -> String;
-    }
-    impl<T: serde::Serialize> Ser for T {
-        fn to_json(&self) -> String {
-            serde_json::to_string(self).expect("sweep rows and manifests serialise")
-        }
-    }
+/// One line of JSON (rows and manifests always serialise).
+fn json<T: Serialize>(v: &T) -> String {
+    serde_json::to_string(v).expect("sweep rows and manifests serialise")
 }
 
 #[cfg(test)]

@@ -14,7 +14,7 @@ use serde_json::{Map, Value};
 
 use mrpp_core::mapf::plan_file::RunInfo;
 use mrpp_core::registry::find;
-use mrpp_core::{Ctx, Deadline, Params, Planner, PlannerEntry, Problem, Solved, Unsolved, solve};
+use mrpp_core::{Ctx, Deadline, Params, PlannerEntry, Problem, Solved, Unsolved, solve};
 
 use crate::output::{Fail, metrics_object, pairs, time_limit, write_atomic};
 use crate::progress;
@@ -251,7 +251,8 @@ fn solve_with<P: Problem + 'static>(def: &Def<P>, req: &SolveRequest) -> Result<
     let outcome = solve(planner.as_ref(), &loaded.problem, &ctx);
     bar.finish_and_clear();
     let runtime_ms = started.elapsed().as_secs_f64() * 1e3;
-    report(&outcome, runtime_ms, planner.as_ref())?;
+    let notes = planner.notes();
+    report(&outcome, runtime_ms, planner.name(), &notes)?;
     let info = RunInfo {
         planner: entry.name.to_string(),
         params: params
@@ -262,7 +263,7 @@ fn solve_with<P: Problem + 'static>(def: &Def<P>, req: &SolveRequest) -> Result<
         runtime_ms,
         ..RunInfo::default()
     };
-    write_outputs(&loaded, req, info, &outcome, planner.notes())?;
+    write_outputs(&loaded, req, info, &outcome, notes)?;
     Ok(if outcome.is_ok() { 0 } else { 3 })
 }
 
@@ -270,7 +271,8 @@ fn solve_with<P: Problem + 'static>(def: &Def<P>, req: &SolveRequest) -> Result<
 fn report<P: Problem>(
     outcome: &Outcome<P>,
     runtime_ms: f64,
-    planner: &dyn Planner<P>,
+    planner: &str,
+    notes: &Map<String, Value>,
 ) -> Result<(), Fail> {
     match outcome {
         Ok(s) => println!(
@@ -282,9 +284,9 @@ fn report<P: Problem>(
         }
         Err(why) => println!("not solved: {why} | runtime {runtime_ms:.1} ms"),
     }
-    let notes = pairs(&planner.notes());
-    if !notes.is_empty() {
-        println!("{}: {notes}", planner.name());
+    let short = pairs(notes);
+    if !short.is_empty() {
+        println!("{planner}: {short}");
     }
     Ok(())
 }
@@ -330,17 +332,12 @@ fn validate_with<P: Problem + 'static>(
         .validate(&read.plan)
         .map_err(|v| Fail(format!("{}: invalid plan: {v}", plan_path.display())))?;
     let actual = metrics_object(&m);
-    for (k, real) in &actual {
-        if let Some(claim) = read
-            .claims
-            .get(k)
-            .filter(|c| !c.is_null() && !same_number(c, real))
-        {
-            return Err(Fail(format!(
-                "{}: plan claims {k} {claim} but its paths give {real}",
-                plan_path.display()
-            )));
-        }
+    let disputed = mrpp_core::envelope::disputed(&read.claims, &Value::Object(actual.clone()));
+    if let Some((k, claim, real)) = disputed.first() {
+        return Err(Fail(format!(
+            "{}: plan claims {k} {claim} but its paths give {real}",
+            plan_path.display()
+        )));
     }
     println!(
         "valid: {} agents | {}{}",
@@ -353,17 +350,6 @@ fn validate_with<P: Problem + 'static>(
         }
     );
     Ok(0)
-}
-
-/// Equal values, with floats equal to a relative 1e-9 (plan files print them rounded by
-/// whatever wrote them).
-fn same_number(a: &Value, b: &Value) -> bool {
-    match (a.as_f64(), b.as_f64()) {
-        (Some(x), Some(y)) if a.is_f64() || b.is_f64() => {
-            (x - y).abs() <= 1e-9 * x.abs().max(y.abs()).max(1.0)
-        }
-        _ => a == b,
-    }
 }
 
 /// `mrpp planners [--family F]`: every planner with its description and parameters.

@@ -8,7 +8,7 @@ use std::path::Path;
 use mrpp_formation::world::{Formation, formation_envelope, read_formation_plan};
 use mrpp_formation::{FormationProblem, render::render_svg};
 
-use crate::family::{Def, Format, Inputs, Loaded, ReadPlan};
+use crate::family::{Def, Inputs, Loaded, ReadPlan};
 use crate::output::{Fail, file_name, write_atomic};
 
 /// The formation family.
@@ -47,12 +47,7 @@ fn load(inputs: &Inputs) -> Result<Loaded<FormationProblem>, Fail> {
     Ok(Loaded {
         problem: f.problem.clone(),
         summary,
-        write: Box::new(move |_, info, outcome, notes, format| {
-            if format != Format::Json {
-                return Err(Fail(
-                    "formation plans are written as JSON only (--format json)".into(),
-                ));
-            }
+        write: Box::new(move |_, info, outcome, notes, _| {
             let mut env = formation_envelope(&file, &f, info, outcome);
             env.extra.extend(notes);
             Ok(env.to_json())

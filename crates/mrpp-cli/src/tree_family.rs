@@ -6,15 +6,13 @@
 use std::path::{Path, PathBuf};
 
 use clap::{Args, Subcommand, ValueEnum};
-use serde_json::{Map, Value};
 
 use mrpp_core::MapfProblem;
-use mrpp_core::mapf::plan_file::RunInfo;
 use mrpp_trees::gp::GpParams;
 use mrpp_trees::plan_json::{read_tree_plan, tree_envelope};
 use mrpp_trees::{ProblemSpec, RobotCount, TreeInstance, generate_problem, tree_problem};
 
-use crate::family::{Def, Format, Inputs, Loaded, Outcome, ReadPlan, SolveRequest};
+use crate::family::{Def, Format, Inputs, Loaded, ReadPlan, SolveRequest};
 use crate::output::{Fail, file_name, write_atomic};
 
 /// Largest depth budget `trees gen` accepts (the paper uses 4–10).
@@ -59,28 +57,10 @@ fn load(inputs: &Inputs) -> Result<Loaded<MapfProblem>, Fail> {
             if following { "allowed" } else { "forbidden" }
         ),
         problem: tree_problem(&tree, following),
-        write: Box::new(move |problem, info, outcome, notes, format| {
-            write_plan(&instance_file, problem, info, outcome, notes, format)
+        write: Box::new(move |problem, info, outcome, notes, _| {
+            Ok(tree_envelope(&instance_file, problem, info, outcome, notes).to_json())
         }),
     })
-}
-
-fn write_plan(
-    instance_file: &str,
-    problem: &MapfProblem,
-    info: RunInfo,
-    outcome: &Outcome<MapfProblem>,
-    notes: Map<String, Value>,
-    format: Format,
-) -> Result<String, Fail> {
-    if format != Format::Json {
-        return Err(Fail(
-            "tree plans are written as JSON only (--format json)".into(),
-        ));
-    }
-    let mut env = tree_envelope(instance_file, problem, info, outcome, None);
-    env.extra.extend(notes);
-    Ok(env.to_json())
 }
 
 fn read_plan(inputs: &Inputs, plan_path: &Path) -> Result<ReadPlan<MapfProblem>, Fail> {

@@ -126,26 +126,14 @@ impl<E: Serialize + DeserializeOwned> Envelope<E> {
         Ok(env)
     }
 
-    /// The metrics the file claims that differ from `actual` (a metrics value serialised to a
-    /// JSON object): `(key, claimed, actual)`. Keys the file does not report, or reports as
-    /// `null`, are not compared.
+    /// The metrics the file claims that differ from `actual` ([`disputed`]).
     pub fn disputed_metrics(&self, actual: &Value) -> Vec<(String, Value, Value)> {
-        let Some(actual) = actual.as_object() else {
-            return Vec::new();
-        };
-        actual
-            .iter()
-            .filter_map(|(k, real)| {
-                let claim = self.metrics.get(k).filter(|c| !c.is_null())?;
-                (claim != real).then(|| (k.clone(), claim.clone(), real.clone()))
-            })
-            .collect()
+        disputed(&self.metrics, actual)
     }
 
     /// JSON text: header keys one per line, one agent per line, paths wrapped every
     /// [`ELEMENTS_PER_LINE`] elements; extra keys after the header, in their order.
     pub fn to_json(&self) -> String {
-        let js = |v: &dyn erased::Ser| v.json();
         let mut s = String::from("{\n");
         let _ = writeln!(s, "  \"format\": {},", js(&FORMAT));
         let _ = writeln!(s, "  \"family\": {},", js(&self.family));
@@ -201,6 +189,32 @@ impl<E: Serialize + DeserializeOwned> Envelope<E> {
     }
 }
 
+/// The `claims` (a plan file's metrics) that differ from `actual` (the validator's metrics
+/// serialised to a JSON object): `(key, claimed, actual)`. Keys not claimed, or claimed as `null`,
+/// are not compared; floats are equal to a relative 1e-9 (files print them rounded by whatever
+/// wrote them).
+pub fn disputed(claims: &Map<String, Value>, actual: &Value) -> Vec<(String, Value, Value)> {
+    let Some(actual) = actual.as_object() else {
+        return Vec::new();
+    };
+    actual
+        .iter()
+        .filter_map(|(k, real)| {
+            let claim = claims.get(k).filter(|c| !c.is_null())?;
+            (!same_number(claim, real)).then(|| (k.clone(), claim.clone(), real.clone()))
+        })
+        .collect()
+}
+
+fn same_number(a: &Value, b: &Value) -> bool {
+    match (a.as_f64(), b.as_f64()) {
+        (Some(x), Some(y)) if a.is_f64() || b.is_f64() => {
+            (x - y).abs() <= 1e-9 * x.abs().max(y.abs()).max(1.0)
+        }
+        _ => a == b,
+    }
+}
+
 /// Refuses a plan file whose `family` (when it has one) is not `family`, before its paths are
 /// read as that family's elements: `<path>: this is a <f> plan; ...`. Text that is not a JSON
 /// object is left to the family's own parser (which names the line).
@@ -218,31 +232,24 @@ pub fn check_family(text: &str, family: &str, path: &Path) -> Result<()> {
 }
 
 /// Compact JSON of any serialisable value, with `, ` and `: ` separators (what a person reads).
-mod erased {
-    pub trait Ser {
-        fn json(&self) -> String;
-    }
-    impl<T: serde::Serialize + ?Sized> Ser for T {
-        fn json(&self) -> String {
-            let v = serde_json::to_value(self).unwrap_or(serde_json::Value::Null);
-            spaced(&v)
+fn js<T: Serialize + ?Sized>(v: &T) -> String {
+    spaced(&serde_json::to_value(v).unwrap_or(Value::Null))
+}
+
+fn spaced(v: &Value) -> String {
+    match v {
+        Value::Array(a) => {
+            let items: Vec<String> = a.iter().map(spaced).collect();
+            format!("[{}]", items.join(", "))
         }
-    }
-    fn spaced(v: &serde_json::Value) -> String {
-        match v {
-            serde_json::Value::Array(a) => {
-                let items: Vec<String> = a.iter().map(spaced).collect();
-                format!("[{}]", items.join(", "))
-            }
-            serde_json::Value::Object(o) => {
-                let items: Vec<String> = o
-                    .iter()
-                    .map(|(k, v)| format!("{}: {}", serde_json::Value::from(k.as_str()), spaced(v)))
-                    .collect();
-                format!("{{{}}}", items.join(", "))
-            }
-            other => other.to_string(),
+        Value::Object(o) => {
+            let items: Vec<String> = o
+                .iter()
+                .map(|(k, v)| format!("{}: {}", Value::from(k.as_str()), spaced(v)))
+                .collect();
+            format!("{{{}}}", items.join(", "))
         }
+        other => other.to_string(),
     }
 }
 
@@ -300,6 +307,15 @@ mod tests {
         let disputed = e.disputed_metrics(&serde_json::json!({"sum_of_costs": 4, "makespan": 1}));
         assert_eq!(disputed.len(), 1);
         assert_eq!(disputed[0].0, "sum_of_costs");
+        let floats = serde_json::json!({"c": 92.93267227604592})
+            .as_object()
+            .unwrap()
+            .clone();
+        assert!(super::disputed(&floats, &serde_json::json!({"c": 92.93267227604593})).is_empty());
+        assert_eq!(
+            super::disputed(&floats, &serde_json::json!({"c": 92.94})).len(),
+            1
+        );
         let bad = Envelope::<u32>::parse(
             r#"{"format": "mrpp-plan/9", "solved": false, "agents": []}"#,
             Path::new("b.json"),

@@ -303,7 +303,7 @@ pub fn voronoi_edges(
 /// Step 3: merges, prunes and simplifies Voronoi segments into a [`Roadmap`].
 pub struct RoadmapBuilder {
     points: Vec<Point>,
-    /// Undirected edges as `(u, v, length, clearance, polyline)`; removed ones are `None`.
+    /// Undirected edges; removed ones are `None` (ids stay stable while chains merge).
     edges: Vec<Option<RoadEdge>>,
     adj: Vec<Vec<u32>>,
 }

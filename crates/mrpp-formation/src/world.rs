@@ -228,17 +228,13 @@ pub fn random_pair(
 ) -> Option<(Point, Point)> {
     use rand::RngExt;
     let (lo, hi) = map.bounds();
-    let diag = ((hi[0] - lo[0]).powi(2) + (hi[1] - lo[1]).powi(2)).sqrt();
-    let draw = |rng: &mut dyn FnMut() -> f64| {
-        [
-            lo[0] + rng() * (hi[0] - lo[0]),
-            lo[1] + rng() * (hi[1] - lo[1]),
-        ]
-    };
-    let mut uniform = || rng.random::<f64>();
+    let diag = crate::roadmap::dist(lo, hi);
     let mut free: Vec<Point> = Vec::new();
     for _ in 0..10_000 {
-        let p = draw(&mut uniform);
+        let p = [
+            lo[0] + rng.random::<f64>() * (hi[0] - lo[0]),
+            lo[1] + rng.random::<f64>() * (hi[1] - lo[1]),
+        ];
         if !map.is_free(p) || map.clearance(p) < 2.0 * radius {
             continue;
         }

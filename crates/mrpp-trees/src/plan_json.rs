@@ -22,13 +22,14 @@ use crate::instance::TreeInstance;
 /// The kind of world file tree plans name.
 pub const WORLD_KIND: &str = "tree-instance";
 
-/// The envelope of one run on a tree problem; `program` is the GP program that made the plan.
+/// The envelope of one run on a tree problem; `notes` are the planner's
+/// ([`mrpp_core::Planner::notes`], e.g. the GP program that made the plan).
 pub fn tree_envelope(
     instance_file: &str,
     problem: &MapfProblem,
     mut info: RunInfo,
     outcome: &std::result::Result<Solved<MapfProblem>, Unsolved>,
-    program: Option<String>,
+    notes: serde_json::Map<String, Value>,
 ) -> Envelope<u64> {
     info.family = crate::FAMILY.into();
     info.world = World {
@@ -36,9 +37,7 @@ pub fn tree_envelope(
         file: instance_file.into(),
     };
     let mut env = mapf_envelope(problem, info, outcome, u64::from);
-    if let Some(p) = program {
-        env.extra.insert("program".into(), Value::from(p));
-    }
+    env.extra.extend(notes);
     env
 }
 
@@ -154,7 +153,7 @@ mod tests {
             &problem,
             info,
             &Ok(s.clone()),
-            Some(prog.clone()),
+            serde_json::Map::from_iter([("program".to_string(), Value::from(prog.clone()))]),
         )
         .to_json();
         assert!(text.contains("\"goal\": \"visit\""), "{text}");
@@ -183,7 +182,7 @@ mod tests {
             &problem,
             RunInfo::default(),
             &Err(Unsolved::TimeLimit),
-            None,
+            serde_json::Map::new(),
         )
         .to_json();
         assert!(!text.contains("program"), "{text}");

@@ -18,7 +18,6 @@ use crate::harness::{Manifest, RunRecord, Sweep, params_text};
 use crate::papers::hstar_instances::{PaperInstance, Scenario2Map, table1_instances};
 use crate::report::{Panel, Series, csv_text, line_panels};
 use mrpp_core::error::{Error, Result, read_file};
-use mrpp_core::mapf::instance::Instance;
 use mrpp_core::mapf::plan_file::RunInfo;
 use mrpp_core::mapf::search::distance::lower_bounds;
 use mrpp_core::registry::find;
@@ -127,7 +126,6 @@ pub struct RunRow {
 pub struct LoadedInstance {
     pub info: PaperInstance,
     pub map: GridMap,
-    pub inst: Instance,
     /// The instance as the planners see it (`stay` rules).
     pub problem: MapfProblem,
 }
@@ -149,13 +147,8 @@ pub fn load_table1(root: &Path, sc2: Scenario2Map) -> Result<Vec<LoadedInstance>
                     ),
                 ));
             }
-            let problem = mrpp_grid::problem_on(&map, inst.clone());
-            Ok(LoadedInstance {
-                info,
-                map,
-                inst,
-                problem,
-            })
+            let problem = mrpp_grid::problem_on(&map, inst);
+            Ok(LoadedInstance { info, map, problem })
         })
         .collect()
 }
@@ -519,9 +512,13 @@ fn table2_page(t: &Table2, rows: &[&RunRow], command: &str, wall: f64) -> String
     }
     s.push('\n');
     for li in instances {
-        let lb = lower_bounds(li.map.graph(), &li.inst.starts, &li.inst.goals)
-            .map(|(sum, max)| format!("{max} / {sum}"))
-            .unwrap_or_else(|i| format!("agent {i} cannot reach its goal"));
+        let lb = lower_bounds(
+            li.map.graph(),
+            &li.problem.instance().starts,
+            &li.problem.instance().goals,
+        )
+        .map(|(sum, max)| format!("{max} / {sum}"))
+        .unwrap_or_else(|i| format!("agent {i} cannot reach its goal"));
         s.push_str(&format!(
             "| {} | {} | {lb} | {} |",
             li.info.scenario,
@@ -552,15 +549,18 @@ fn table2_page(t: &Table2, rows: &[&RunRow], command: &str, wall: f64) -> String
 fn stage1(li: &LoadedInstance) -> String {
     use mrpp_grid::coevolution::{Coevolution, astar_with_private_obstacles, route_conflict};
     let g = li.map.graph();
-    let Ok(stage) =
-        astar_with_private_obstacles(g, &li.inst, &Coevolution::default(), Deadline::none())
-    else {
+    let Ok(stage) = astar_with_private_obstacles(
+        g,
+        li.problem.instance(),
+        &Coevolution::default(),
+        Deadline::none(),
+    ) else {
         return String::new();
     };
     let lengths: Vec<usize> = stage
         .routes
         .iter()
-        .zip(&li.inst.goals)
+        .zip(&li.problem.instance().goals)
         .map(|(r, &goal)| {
             mrpp_core::mapf::plan::path_cost(r, goal, mrpp_core::GoalSemantics::Stay)
                 .unwrap_or(r.len() - 1)

@@ -299,61 +299,58 @@ pub fn judge(
     opts: Rules,
     plan: &Plan,
 ) -> Result<Metrics, Violation> {
-    {
-        let this = plan;
-        if this.paths.len() != inst.num_agents() {
-            return Err(Violation::AgentCount {
-                plan: this.paths.len(),
-                instance: inst.num_agents(),
+    if plan.paths.len() != inst.num_agents() {
+        return Err(Violation::AgentCount {
+            plan: plan.paths.len(),
+            instance: inst.num_agents(),
+        });
+    }
+    let n = graph.num_vertices();
+    for (agent, p) in plan.paths.iter().enumerate() {
+        if p.is_empty() {
+            return Err(Violation::EmptyPath { agent });
+        }
+        if let Some(t) = p.iter().position(|&v| v as usize >= n) {
+            return Err(Violation::UnknownVertex { agent, t, v: p[t] });
+        }
+        if p[0] != inst.starts[agent] {
+            return Err(Violation::WrongStart {
+                agent,
+                expected: inst.starts[agent],
+                found: p[0],
             });
         }
-        let n = graph.num_vertices();
-        for (agent, p) in this.paths.iter().enumerate() {
-            if p.is_empty() {
-                return Err(Violation::EmptyPath { agent });
-            }
-            if let Some(t) = p.iter().position(|&v| v as usize >= n) {
-                return Err(Violation::UnknownVertex { agent, t, v: p[t] });
-            }
-            if p[0] != inst.starts[agent] {
-                return Err(Violation::WrongStart {
+        for (t, w) in p.windows(2).enumerate() {
+            if w[0] != w[1] && !graph.has_edge(w[0], w[1]) {
+                return Err(Violation::NotAnEdge {
                     agent,
-                    expected: inst.starts[agent],
-                    found: p[0],
+                    t: t + 1,
+                    from: w[0],
+                    to: w[1],
                 });
             }
-            for (t, w) in p.windows(2).enumerate() {
-                if w[0] != w[1] && !graph.has_edge(w[0], w[1]) {
-                    return Err(Violation::NotAnEdge {
-                        agent,
-                        t: t + 1,
-                        from: w[0],
-                        to: w[1],
-                    });
-                }
-            }
         }
-        if let Some(c) = first_conflict(&this.paths, n, opts.allow_following) {
-            return Err(Violation::Conflict(c));
-        }
-        let mut m = Metrics {
-            sum_of_costs: 0,
-            makespan: 0,
-            sum_of_moves: 0,
-        };
-        for (agent, p) in this.paths.iter().enumerate() {
-            let goal = inst.goals[agent];
-            let cost = path_cost(p, goal, opts.semantics).ok_or(Violation::GoalNotReached {
-                agent,
-                goal,
-                last: *p.last().expect("non-empty"),
-            })? as u64;
-            m.sum_of_costs += cost;
-            m.makespan = m.makespan.max(cost);
-            m.sum_of_moves += path_moves(p) as u64;
-        }
-        Ok(m)
     }
+    if let Some(c) = first_conflict(&plan.paths, n, opts.allow_following) {
+        return Err(Violation::Conflict(c));
+    }
+    let mut m = Metrics {
+        sum_of_costs: 0,
+        makespan: 0,
+        sum_of_moves: 0,
+    };
+    for (agent, p) in plan.paths.iter().enumerate() {
+        let goal = inst.goals[agent];
+        let cost = path_cost(p, goal, opts.semantics).ok_or(Violation::GoalNotReached {
+            agent,
+            goal,
+            last: *p.last().expect("non-empty"),
+        })? as u64;
+        m.sum_of_costs += cost;
+        m.makespan = m.makespan.max(cost);
+        m.sum_of_moves += path_moves(p) as u64;
+    }
+    Ok(m)
 }
 
 #[cfg(test)]

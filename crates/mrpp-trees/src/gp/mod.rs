@@ -228,12 +228,12 @@ pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
 /// `paper_settings=true`, with every key the user gave applied on top; checked with
 /// [`GpParams::check`].
 pub fn gp_params(p: &Params) -> mrpp_core::Result<GpParams> {
-    let mut g = if p.get::<bool>("paper_settings")? {
+    let paper = p.get::<bool>("paper_settings")?;
+    let mut g = if paper {
         GpParams::paper()
     } else {
         GpParams::default()
     };
-    let paper = p.get::<bool>("paper_settings")?;
     let set = |key: &str| !paper || p.is_given(key);
     if set("population") {
         g.population = p.get("population")?;
