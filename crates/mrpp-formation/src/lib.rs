@@ -14,11 +14,12 @@
 //! - [`cost`]: cost vectors `c_e(r)` (named models);
 //! - [`problem`]: [`FormationProblem`], plans, the validator and its timing;
 //! - [`paths`]: Dijkstra, loop elimination, k-shortest and all simple paths;
-//! - [`planners`] (`sequential`, `exact`) and [`ga`] (`ga`), registered in [`PLANNERS`];
+//! - [`planners`] (`sequential`), [`ga`] (`ga`) and [`exact`] (`exact`), registered in [`PLANNERS`];
 //! - [`render`]: an SVG picture of the map, roadmap and plan;
 //! - [`world`]: the formation file (map, robots, Q_ini, Q_goal, cost model) and plan files.
 
 pub mod cost;
+pub mod exact;
 pub mod ga;
 pub mod generator;
 pub mod paths;
@@ -39,4 +40,4 @@ pub const FAMILY: &str = "formation";
 
 /// Every formation planner, in the order `mrpp planners` lists them.
 pub static PLANNERS: &[PlannerEntry<FormationProblem>] =
-    &[planners::SEQUENTIAL_ENTRY, ga::ENTRY, planners::EXACT_ENTRY];
+    &[planners::SEQUENTIAL_ENTRY, ga::ENTRY, exact::ENTRY];

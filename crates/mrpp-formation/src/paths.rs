@@ -34,6 +34,33 @@ pub fn dijkstra(
     banned: &[bool],
     weight: &dyn Fn(u32, u32, u32) -> f64,
 ) -> Option<(Vec<u32>, f64)> {
+    let (dist, prev) = search(r, from, Some(to), banned, weight);
+    if !dist[to as usize].is_finite() {
+        return None;
+    }
+    let mut path = vec![to];
+    while *path.last().expect("non-empty") != from {
+        path.push(prev[*path.last().expect("non-empty") as usize]);
+    }
+    path.reverse();
+    Some((path, dist[to as usize]))
+}
+
+/// The shortest length from `from` to every vertex (infinite where unreachable).
+pub fn distances(r: &Roadmap, from: u32) -> Vec<f64> {
+    let len = |e: u32, _: u32, _: u32| r.edges[e as usize].length;
+    search(r, from, None, &[], &len).0
+}
+
+/// Dijkstra from `from` until `to` is settled (or everything, with `None`): distances and
+/// predecessors.
+fn search(
+    r: &Roadmap,
+    from: u32,
+    to: Option<u32>,
+    banned: &[bool],
+    weight: &dyn Fn(u32, u32, u32) -> f64,
+) -> (Vec<f64>, Vec<u32>) {
     let n = r.num_vertices();
     let mut dist = vec![f64::INFINITY; n];
     let mut prev = vec![u32::MAX; n];
@@ -44,7 +71,7 @@ pub fn dijkstra(
         if d > dist[u as usize] {
             continue;
         }
-        if u == to {
+        if Some(u) == to {
             break;
         }
         for &(v, e) in r.neighbors(u) {
@@ -59,15 +86,7 @@ pub fn dijkstra(
             }
         }
     }
-    if !dist[to as usize].is_finite() {
-        return None;
-    }
-    let mut path = vec![to];
-    while *path.last().expect("non-empty") != from {
-        path.push(prev[*path.last().expect("non-empty") as usize]);
-    }
-    path.reverse();
-    Some((path, dist[to as usize]))
+    (dist, prev)
 }
 
 /// Cuts every loop out of a vertex sequence (a repeated vertex keeps its first visit and continues

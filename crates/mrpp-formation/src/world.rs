@@ -252,7 +252,8 @@ pub fn random_pair(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::planners::{Exact, Sequential, brute_force};
+    use crate::exact::{Exact, brute_force};
+    use crate::planners::Sequential;
     use mrpp_core::{Ctx, solve};
 
     fn load(name: &str) -> Formation {
