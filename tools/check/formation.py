@@ -1,12 +1,13 @@
 #!/usr/bin/env python3
 """Independent checker for mrpp formation plans (Python 3 standard library only).
 
-Usage:  python3 tools/check/formation.py PLAN.json
+Usage:  python3 tools/check/formation.py PLAN.json [PLAN.json ...]
         python3 tools/check/formation.py --self-test
 
-Prints one JSON line: {"valid": true, "c_max": .., "sum_of_costs": ..,
-"distinct_paths": ..} (exit 0) or {"valid": false, "reason": "..."} (exit 1,
-also for unreadable or malformed input). Wrong usage exits 2.
+Prints one JSON line per plan: {"valid": true, "c_max": .., "sum_of_costs":
+.., "distinct_paths": ..} or {"valid": false, "reason": "..."} (also for
+unreadable or malformed input), with a leading "file" key when given several
+plans. Exit 0 when every plan is valid, 1 otherwise; wrong usage exits 2.
 
 This file was written from the rules below, NOT from mrpp's code; it shares
 no code with mrpp, so it can serve as a second opinion on mrpp's validator.
@@ -306,7 +307,15 @@ def self_test():
             passed, failed = passed + ok, failed + (not ok)
             if not ok:
                 print(f"FAIL {name}: expected {expect!r}, got {out!r} (exit {run.returncode})")
-        for args in ([], ["a.json", "b.json"], ["-x"]):
+        many = subprocess.run([sys.executable, __file__, "no-a.json", "no-b.json"],
+                              capture_output=True, text=True)
+        lines = [json.loads(x) for x in many.stdout.splitlines()]
+        ok = (many.returncode == 1 and [x.get("file") for x in lines] == ["no-a.json", "no-b.json"]
+              and all(x["valid"] is False for x in lines))
+        passed, failed = passed + ok, failed + (not ok)
+        if not ok:
+            print(f"FAIL several plans: got {many.stdout!r} (exit {many.returncode})")
+        for args in ([], ["a.json", "-x"], ["-x"]):
             usage = subprocess.run([sys.executable, __file__] + args, capture_output=True, text=True)
             ok = usage.returncode == 2
             passed, failed = passed + ok, failed + (not ok)
@@ -319,12 +328,17 @@ def self_test():
 def main(argv):
     if argv == ["--self-test"]:
         return self_test()
-    if len(argv) != 1 or argv[0].startswith("-"):
+    if not argv or any(a.startswith("-") for a in argv):
         print(__doc__.split("\n\n")[1], file=sys.stderr)
         return 2
-    result = check_file(argv[0])
-    print(json.dumps(result))
-    return 0 if result["valid"] else 1
+    ok = True
+    for path in argv:
+        result = check_file(path)
+        if len(argv) > 1:
+            result = {"file": path, **result}
+        print(json.dumps(result))
+        ok = ok and result["valid"]
+    return 0 if ok else 1
 
 
 if __name__ == "__main__":

@@ -67,6 +67,10 @@ pub struct GaFormationArgs {
     data: PathBuf,
     #[arg(long, default_value = "out/ga-formation")]
     out: PathBuf,
+    /// Also write every plan as plans/<map>-<pair>-r<R>-<planner>.json (for
+    /// tools/check/formation.py, `mrpp validate` and `mrpp render`).
+    #[arg(long)]
+    save_plans: bool,
     /// Run only shard i of N (`i/N`); `mrpp bench merge` joins the parts.
     #[arg(long)]
     shard: Option<Shard>,
@@ -224,6 +228,7 @@ fn ga_formation(a: &GaFormationArgs, merge: Option<Mode>) -> Result<u8, Fail> {
         pairs,
         robots: a.robots.clone(),
         exact_limit: seconds("exact-time-limit", a.exact_time_limit)?,
+        save_plans: a.save_plans,
         ..FormationConfig::default()
     };
     let mode = merge.unwrap_or(Mode::run(a.shard, a.out.clone()));

@@ -190,6 +190,7 @@ fn ga_formation_experiment_writes_its_page() {
         "1",
         "--robots",
         "1,3",
+        "--save-plans",
         "--out",
         out.to_str().unwrap(),
     ]);
@@ -209,6 +210,25 @@ fn ga_formation_experiment_writes_its_page() {
             f[9].parse().unwrap(),
         );
         assert!(opt <= ga + 1e-6 && ga <= seq + 1e-6, "{line}");
+        // Every plan of the configuration passes the independent checker with the same c_max.
+        let name =
+            |planner: &str| out.join(format!("plans/{}-{}-r{}-{planner}.json", f[0], f[1], f[2]));
+        let plans = [("sequential", seq), ("ga", ga), ("exact", opt)];
+        let o = Command::new("python3")
+            .arg(root().join("tools/check/formation.py"))
+            .args(plans.iter().map(|(p, _)| name(p)))
+            .output()
+            .unwrap();
+        let text = String::from_utf8_lossy(&o.stdout);
+        assert!(o.status.success(), "{line}: {text}");
+        for ((planner, c), verdict) in plans.iter().zip(text.lines()) {
+            let v: serde_json::Value = serde_json::from_str(verdict).unwrap();
+            let theirs = v["c_max"].as_f64().unwrap();
+            assert!(
+                (theirs - c).abs() < 1e-5 * c.max(1.0),
+                "{line} {planner}: {verdict}"
+            );
+        }
     }
     for f in [
         "ga-formation.md",

@@ -33,16 +33,17 @@
 //!   robots over the feasible candidates' edges is a convex-cost flow, solved exactly by
 //!   successive shortest paths (var_density2, R = 8: 108.3 at the root for an optimum of 110.3).
 //!
-//! Before the search, each feasible candidate is tried alone: if the completion bound with one
-//! robot on it reaches the best `c_max`, no plan below it uses the candidate, and it leaves
-//! every branch at once. States (the signed counts per edge) already searched from the same or
+//! Before the search, and again after the first robot is placed, each feasible candidate is
+//! tried alone: if the completion bound with one more robot on it reaches the best `c_max`, no
+//! plan below it uses the candidate, and it leaves every branch at once. States (the signed counts per edge) already searched from the same or
 //! an earlier candidate index are skipped (a 128-bit Zobrist hash per state, at most 2^24 of
 //! them). A node is also pruned when the placed robots' timing reaches the best `c_max` or makes
 //! them wait in a circle; a full plan is scored by the validator's timing
 //! ([`FormationProblem::evaluate`]).
 //!
 //! Counts of robots per edge are bit sets of placed robots, so `exact` takes at most 64 robots.
-//! Measured on the bundled maps with R = 8 (`docs/performance.md`): at most 2 s each.
+//! Measured with R = 4..8 on 10 random start/goal pairs of each bundled map
+//! (`docs/reproduction/ga-formation.md`): every optimum proven, the slowest in about 6 s.
 
 use mrpp_core::seeds::mix64;
 use mrpp_core::{Ctx, Param, Planner, PlannerEntry, Unsolved};
@@ -315,19 +316,20 @@ impl<'a> Search<'a> {
         out
     }
 
-    /// The candidates of `root` (the root's feasible list) that some plan below the bound can
-    /// use: with one robot on the candidate, the completion bound of the others over `root`
-    /// stays below it. Run once before the search, this removes a candidate from every branch
-    /// at once (var_density2, R = 8: 1242 feasible candidates, 101 usable).
-    fn usable(&mut self, root: &[usize]) -> Result<Vec<usize>, Unsolved> {
+    /// The candidates of `list` (a node's feasible list) that some completion below the bound
+    /// can use: with one more robot on the candidate, the completion bound of the others over
+    /// `list` stays below it. Run at the root and after the first robot, this removes a
+    /// candidate from every branch below at once (var_density2, R = 8: 1242 feasible
+    /// candidates at the root, 101 usable).
+    fn usable(&mut self, list: &[usize]) -> Result<Vec<usize>, Unsolved> {
         let mut out = Vec::new();
-        for &j in root {
+        for &j in list {
             if self.ctx.deadline.expired() {
                 return Err(Unsolved::TimeLimit);
             }
             self.place(j);
             let limit = self.limit();
-            let ok = self.dag_times() < limit && self.completion_bound(root, limit) < limit;
+            let ok = self.dag_times() < limit && self.completion_bound(list, limit) < limit;
             self.unplace();
             if ok {
                 out.push(j);
@@ -653,6 +655,12 @@ impl<'a> Search<'a> {
                     let next = self.feasible(&feasible[k..]);
                     let limit = self.limit();
                     if !next.is_empty() && self.completion_bound(&next, limit) < limit {
+                        // After the first robot, the candidates are tried alone again.
+                        let next = if self.chosen.len() == 1 {
+                            self.usable(&next)?
+                        } else {
+                            next
+                        };
                         self.dfs(&next)?;
                     }
                 }

@@ -20,15 +20,17 @@ use serde::{Deserialize, Serialize};
 
 use crate::harness::{Manifest, RunRecord, Sweep};
 use crate::report::{Panel, Series, csv_text, line_panels};
+use mrpp_core::Solved;
 use mrpp_core::error::{Error, Result};
+use mrpp_core::mapf::plan_file::RunInfo;
 use mrpp_core::seeds::derive_seed;
 use mrpp_core::{Ctx, Deadline, Planner, Unsolved, accept, solve};
 use mrpp_formation::exact::Exact;
 use mrpp_formation::ga::Ga;
 use mrpp_formation::planners::Sequential;
 use mrpp_formation::polymap::{Point, PolygonMap};
-use mrpp_formation::world::{Formation, FormationFile, random_pair};
-use mrpp_formation::{CostModel, FormationPlan};
+use mrpp_formation::world::{Formation, FormationFile, formation_envelope, random_pair};
+use mrpp_formation::{CostModel, FormationPlan, FormationProblem};
 
 /// The paper's shares of optimal solutions: sequential, GA.
 pub const PAPER_OPTIMAL: (f64, f64) = (92.0, 97.0);
@@ -57,6 +59,9 @@ pub struct FormationConfig {
     pub ga: Ga,
     /// Wall-clock limit of the exact planner per configuration.
     pub exact_limit: Duration,
+    /// Also write every plan as `plans/<map>-<pair>-r<R>-<planner>.json` (the plan envelope,
+    /// roadmap included, so `tools/check/formation.py` can judge it alone).
+    pub save_plans: bool,
 }
 
 impl Default for FormationConfig {
@@ -69,6 +74,7 @@ impl Default for FormationConfig {
             cost: CostModel::default(),
             ga: Ga::default(),
             exact_limit: Duration::from_secs(30),
+            save_plans: false,
         }
     }
 }
@@ -92,6 +98,9 @@ pub struct FormationRow {
     pub exact_ms: f64,
     /// The GA's plan (for the Fig. 5-style picture).
     pub ga_plan: Vec<Vec<u32>>,
+    /// With `save_plans`: (planner, plan envelope JSON) of every plan.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub plan_files: Vec<(String, String)>,
 }
 
 /// The experiment as a sweep: jobs (map, pair, R).
@@ -155,20 +164,38 @@ impl GaFormation {
     }
 }
 
-/// `c_max` of a planner's validated plan, with the run's wall time; an invalid plan is a bug.
+/// A planner's validated plan (none when it gave up or ran out of time), with the run's wall
+/// time; an invalid plan is a bug.
 fn run_one(
-    planner: &dyn Planner<mrpp_formation::FormationProblem>,
+    planner: &dyn Planner<FormationProblem>,
     f: &Formation,
     ctx: &Ctx,
-) -> Result<(Option<(f64, FormationPlan)>, f64)> {
+) -> Result<(Option<Solved<FormationProblem>>, f64)> {
     let started = Instant::now();
     let out = solve(planner, &f.problem, ctx);
     let ms = started.elapsed().as_secs_f64() * 1e3;
     match out {
-        Ok(s) => Ok((Some((s.metrics.c_max, s.plan)), ms)),
+        Ok(s) => Ok((Some(s), ms)),
         Err(Unsolved::Invalid(why)) => Err(Error::Internal(why)),
         Err(_) => Ok((None, ms)),
     }
+}
+
+/// The plan envelope of one solved run, as written by `mrpp solve`.
+fn plan_file(
+    f: &Formation,
+    map: &str,
+    planner: &str,
+    seed: u64,
+    s: &Solved<FormationProblem>,
+) -> String {
+    let info = RunInfo {
+        planner: planner.into(),
+        seed,
+        runtime_ms: s.runtime.as_secs_f64() * 1e3,
+        ..RunInfo::default()
+    };
+    formation_envelope(&format!("{map}.txt"), f, info, &Ok(s.clone())).to_json()
 }
 
 impl Sweep for GaFormation {
@@ -212,6 +239,20 @@ impl Sweep for GaFormation {
             &Ctx::new(0, Deadline::after(self.cfg.exact_limit)),
         )?;
         let (start, goal) = self.pairs[m][k];
+        let map = &self.maps[m].0;
+        let mut plan_files = Vec::new();
+        if self.cfg.save_plans {
+            let runs = [
+                ("sequential", 0, seq.as_ref()),
+                ("ga", ga_seed, Some(&ga)),
+                ("exact", 0, opt.as_ref()),
+            ];
+            for (name, seed, s) in runs {
+                if let Some(s) = s {
+                    plan_files.push((name.to_string(), plan_file(&f, map, name, seed, s)));
+                }
+            }
+        }
         Ok(FormationRow {
             map: self.maps[m].0.clone(),
             pair: k,
@@ -220,13 +261,14 @@ impl Sweep for GaFormation {
             goal,
             ga_seed,
             roadmap_ms: f.build_ms,
-            sequential: seq.map_or(f64::INFINITY, |s| s.0),
+            sequential: seq.as_ref().map_or(f64::INFINITY, |s| s.metrics.c_max),
             ga: ga.metrics.c_max,
-            optimum: opt.map(|o| o.0),
+            optimum: opt.as_ref().map(|o| o.metrics.c_max),
             ga_generation_of_best: ga_run.generation_of_best,
             ga_ms_per_generation: ga_ms / ga_run.generations.max(1) as f64,
             exact_ms,
-            ga_plan: ga.plan.paths,
+            ga_plan: ga.plan.paths.clone(),
+            plan_files,
         })
     }
     fn records(&self, r: &FormationRow) -> Vec<RunRecord> {
@@ -259,6 +301,12 @@ impl Sweep for GaFormation {
         ];
         if let Some(svg) = fig5(self, rows)? {
             files.push(("fig5.svg".to_string(), svg));
+        }
+        for r in rows {
+            for (planner, text) in &r.plan_files {
+                let name = format!("plans/{}-{}-r{}-{planner}.json", r.map, r.pair, r.robots);
+                files.push((name, text.clone()));
+            }
         }
         Ok(files)
     }
