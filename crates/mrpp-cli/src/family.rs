@@ -24,6 +24,7 @@ pub(crate) static FAMILIES: &[&dyn Family] = &[
     &crate::grid_family::GRID,
     &crate::tree_family::TREES,
     &crate::formation_family::FORMATION,
+    &crate::continuous_family::CONTINUOUS,
     #[cfg(test)]
     &crate::toy_family::TOY,
     #[cfg(test)]
@@ -51,9 +52,13 @@ pub(crate) struct Inputs {
     /// "radius", "cost": {"model": "lanes"|"waves"|"hard"}}.
     #[arg(long)]
     pub(crate) formation: Option<PathBuf>,
-    /// The world file of families that have one (for now only the test family; hidden).
-    #[arg(long, hide = true)]
+    /// Continuous world JSON: {"workspace": [x0, y0, x1, y1], "obstacles": [[[x, y], ...]],
+    /// "robots": [{"start", "goal", "radius", "speed"}], "epsilon", "step_limit"}.
+    #[arg(long)]
     pub(crate) world: Option<PathBuf>,
+    /// The test family's world file (hidden).
+    #[arg(long, hide = true)]
+    pub(crate) line_world: Option<PathBuf>,
     /// Trees: forbid following (entering a node another robot leaves in the same step).
     #[arg(long)]
     pub(crate) no_following: bool,
@@ -206,7 +211,7 @@ pub(crate) fn family_of_inputs(inputs: &Inputs) -> Result<&'static dyn Family, F
         .find(|f| f.claims(inputs))
         .ok_or_else(|| {
             Fail(
-                "name the problem's files: --map (and --scen) for grids, --instance for trees"
+                "name the problem's files: --map (and --scen) for grids, --instance for trees, --formation for formations, --world for continuous worlds"
                     .into(),
             )
         })

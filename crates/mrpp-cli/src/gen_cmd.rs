@@ -44,10 +44,45 @@ pub(crate) enum Gen {
         #[arg(long)]
         out: PathBuf,
     },
+    /// A continuous world (JSON): `random` (the HBMO paper's setting: a 500 x 400 workspace,
+    /// --obstacles polygons of different shapes, --robots discs of radius 6 and speed 16) or
+    /// `circle` (RVO2's circle: --robots discs on a circle of radius --ring, each to its antipode).
+    Continuous {
+        #[arg(long, default_value = "random")]
+        kind: String,
+        #[arg(long)]
+        robots: usize,
+        /// Obstacles of a random world.
+        #[arg(long, default_value_t = 4)]
+        obstacles: usize,
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        /// Circle: radius of the ring.
+        #[arg(long, default_value_t = 200.0)]
+        ring: f64,
+        /// Circle: robot radius.
+        #[arg(long, default_value_t = 6.0)]
+        radius: f64,
+        /// Circle: robot speed per step.
+        #[arg(long, default_value_t = 8.0)]
+        speed: f64,
+        #[arg(long)]
+        out: PathBuf,
+    },
 }
 
 pub(crate) fn run(cmd: Gen) -> Result<u8, Fail> {
     match cmd {
+        Gen::Continuous {
+            kind,
+            robots,
+            obstacles,
+            seed,
+            ring,
+            radius,
+            speed,
+            out,
+        } => continuous(&kind, robots, obstacles, seed, (ring, radius, speed), &out),
         Gen::PolygonMap { kind, seed, out } => {
             let text = mrpp_formation::generator::generate(&kind, seed).map_err(Fail)?;
             write_atomic(&out, &text)?;
@@ -121,4 +156,63 @@ fn relative_map(map: &std::path::Path, out: &std::path::Path) -> PathBuf {
         p.push("..");
     }
     p.join(map)
+}
+
+/// `mrpp gen continuous`.
+fn continuous(
+    kind: &str,
+    robots: usize,
+    obstacles: usize,
+    seed: u64,
+    (ring, radius, speed): (f64, f64, f64),
+    out: &std::path::Path,
+) -> Result<u8, Fail> {
+    use mrpp_continuous::generator::{circle_world, random_world};
+    if !(1..=1000).contains(&robots) {
+        return Err(Fail(format!("--robots must be 1 to 1000, got {robots}")));
+    }
+    let (mut world, what) = match kind {
+        "random" => {
+            if robots > 64 || obstacles > 20 {
+                return Err(Fail(format!(
+                    "a random world takes at most 64 robots and 20 obstacles, got {robots} and {obstacles}"
+                )));
+            }
+            let w = random_world(robots, obstacles, seed).ok_or_else(|| {
+                Fail(format!("no placement of {robots} robots among {obstacles} obstacles found for seed {seed}"))
+            })?;
+            (
+                w,
+                format!("--kind random --robots {robots} --obstacles {obstacles} --seed {seed}"),
+            )
+        }
+        "circle" => {
+            let w = circle_world(robots, ring, radius, speed);
+            w.check()
+                .map_err(|e| Fail(format!("this circle is not a valid world: {e}")))?;
+            (
+                w,
+                format!(
+                    "--kind circle --robots {robots} --ring {ring} --radius {radius} --speed {speed}"
+                ),
+            )
+        }
+        other => {
+            return Err(Fail(format!(
+                "--kind must be random or circle, got `{other}`"
+            )));
+        }
+    };
+    world.source = Some(format!(
+        "mrpp gen continuous {what} (mrpp {})",
+        env!("CARGO_PKG_VERSION")
+    ));
+    let text = serde_json::to_string_pretty(&world).map_err(|e| Fail(e.to_string()))?;
+    write_atomic(out, &(text + "\n"))?;
+    println!(
+        "mrpp {} | gen continuous | {what} | written to {}",
+        env!("CARGO_PKG_VERSION"),
+        out.display()
+    );
+    Ok(0)
 }

@@ -9,6 +9,7 @@ use std::process::ExitCode;
 use clap::{Parser, Subcommand};
 
 mod bench;
+mod continuous_family;
 mod experiment;
 mod family;
 mod formation_family;

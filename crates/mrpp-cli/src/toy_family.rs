@@ -1,6 +1,6 @@
 //! A toy family that exists only in tests, to show (and keep true) that a new family is its own
 //! module plus one line in [`crate::family::FAMILIES`]: agents on a line of cells, one problem
-//! type, one validator, one planner, its own world file (`--world`, JSON
+//! type, one validator, one planner, its own world file (`--line-world`, JSON
 //! `{"length": L, "agents": [[start, goal], ...]}`) and the plan envelope with integer cells.
 //!
 //! It also holds the test-only "broken" planners of the grid and tree families, which return a
@@ -112,9 +112,9 @@ struct LineFile {
 
 fn load_line(inputs: &Inputs) -> Result<(Line, String), Fail> {
     let path = inputs
-        .world
+        .line_world
         .as_deref()
-        .ok_or_else(|| Fail("line problems need --world".into()))?;
+        .ok_or_else(|| Fail("line problems need --line-world".into()))?;
     let text = mrpp_core::error::read_file(path)?;
     let f: LineFile =
         serde_json::from_str(&text).map_err(|e| Fail(format!("{}: {e}", path.display())))?;
@@ -130,7 +130,7 @@ fn load_line(inputs: &Inputs) -> Result<(Line, String), Fail> {
 pub(crate) static TOY: Def<Line> = Def {
     name: "line",
     planners: LINE_PLANNERS,
-    claims: |i| i.world.is_some(),
+    claims: |i| i.line_world.is_some(),
     load: |inputs| {
         let (problem, file) = load_line(inputs)?;
         Ok(Loaded {
@@ -261,7 +261,7 @@ mod tests {
         let world = tmp("w.json");
         std::fs::write(&world, r#"{"length": 6, "agents": [[0, 3], [1, 5]]}"#).unwrap();
         let inputs = Inputs {
-            world: Some(world),
+            line_world: Some(world),
             ..Inputs::default()
         };
         let out = tmp("plan.json");

@@ -1,0 +1,105 @@
+//! The continuous family on the command line: `--world W.json` (workspace, polygon obstacles,
+//! robots with radius, speed, start and goal), plans as the envelope with `[x, y]` positions per
+//! step, `info` (the world and each robot's ideal path) and `render` (obstacles, trajectories,
+//! final discs as SVG).
+
+use std::path::Path;
+
+use mrpp_continuous::plan_file::{continuous_envelope, read_continuous_plan};
+use mrpp_continuous::render::render_svg;
+use mrpp_continuous::{NavProblem, World};
+
+use crate::family::{Def, Inputs, Loaded, ReadPlan};
+use crate::output::{Fail, file_name, write_atomic};
+
+/// The continuous family.
+pub(crate) static CONTINUOUS: Def<NavProblem> = Def {
+    name: mrpp_continuous::FAMILY,
+    planners: mrpp_continuous::PLANNERS,
+    claims: |i| i.world.is_some(),
+    load,
+    read_plan,
+    info: Some(info),
+    render: Some(render),
+    lacam: false,
+};
+
+fn world(inputs: &Inputs) -> Result<(NavProblem, &Path), Fail> {
+    let path = inputs
+        .world
+        .as_deref()
+        .ok_or_else(|| Fail("continuous problems need --world".into()))?;
+    Ok((NavProblem::new(World::load(path)?), path))
+}
+
+fn load(inputs: &Inputs) -> Result<Loaded<NavProblem>, Fail> {
+    let (problem, path) = world(inputs)?;
+    let file = file_name(path);
+    let w = problem.world();
+    let summary = format!(
+        "world {file} | robots {} | obstacles {} | epsilon {} | step limit {}",
+        w.robots.len(),
+        w.obstacles.len(),
+        w.epsilon,
+        w.step_limit
+    );
+    Ok(Loaded {
+        problem,
+        summary,
+        write: Box::new(move |p, info, outcome, notes, _| {
+            let mut env = continuous_envelope(&file, p, info, outcome);
+            env.extra.extend(notes);
+            Ok(env.to_json())
+        }),
+    })
+}
+
+fn read_plan(inputs: &Inputs, plan_path: &Path) -> Result<ReadPlan<NavProblem>, Fail> {
+    let (problem, _) = world(inputs)?;
+    let text = mrpp_core::error::read_file(plan_path)?;
+    mrpp_core::envelope::check_family(&text, mrpp_continuous::FAMILY, plan_path)?;
+    let (plan, env) = read_continuous_plan(&problem, &text, plan_path)?;
+    let planner = if env.planner.is_empty() {
+        "?"
+    } else {
+        env.planner.as_str()
+    };
+    Ok(ReadPlan {
+        problem,
+        plan,
+        claims: env.metrics,
+        about: format!("planner {planner} | seed {}", env.seed),
+    })
+}
+
+/// `mrpp info --world W`: the world and every robot's straight and ideal distance.
+fn info(inputs: &Inputs) -> Result<u8, Fail> {
+    let (p, path) = world(inputs)?;
+    let w = p.world();
+    println!(
+        "world {} | workspace {:?} | obstacles {} | robots {} | epsilon {} | step limit {}",
+        file_name(path),
+        w.workspace,
+        w.obstacles.len(),
+        w.robots.len(),
+        w.epsilon,
+        w.step_limit
+    );
+    for (i, (r, ideal)) in w.robots.iter().zip(p.ideal()).enumerate() {
+        let straight = mrpp_continuous::geometry::dist(r.start, r.goal);
+        let ideal = ideal.map_or("unreachable".to_string(), |d| format!("{d:.2}"));
+        println!(
+            "robot {i}: radius {} speed {} | straight {straight:.2} | ideal path {ideal}",
+            r.radius, r.speed
+        );
+    }
+    Ok(0)
+}
+
+/// `mrpp render --world W --plan P --out F.svg`.
+fn render(inputs: &Inputs, plan_path: &Path, out: &Path) -> Result<u8, Fail> {
+    let read = read_plan(inputs, plan_path)?;
+    write_atomic(out, &render_svg(read.problem.world(), Some(&read.plan)))?;
+    println!("picture written to {}", out.display());
+    Ok(0)
+}

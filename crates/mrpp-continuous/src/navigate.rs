@@ -1,0 +1,297 @@
+//! The per-step navigation loop of the HBMO paper (§2 principles, §4 pseudo-code) around any
+//! heading optimiser, and the repair that keeps every step collision-free.
+//!
+//! Each step:
+//! 1. **Target** (`guide`; beyond the paper): `Goal` measures the distance term to the goal (the
+//!    paper); `Waypoints` to the farthest point of the robot's ideal path ([`crate::ideal`]) that it
+//!    can reach in a straight clear line from where it is, so robots go around obstacles instead
+//!    of stalling behind them (the greedy per-step objective has local minima there).
+//! 2. **Headings.** `Mode::Joint` (the text: "the centralized version ... determines next position
+//!    of each robot by optimizing the given constrained single-objective function", one vector of
+//!    all moving robots' headings) or `Mode::PerRobot` (the pseudo-code's `For robot i = 1 to N`
+//!    loop: one optimisation per robot, the others at their latest positions). The optimiser starts
+//!    from "every robot heads straight to its target" among its initial points. Robots that have
+//!    arrived (within ε of their goals) stay where they are (the paper: they stop).
+//! 3. **Final approach** (`snap`, default on; the paper is silent): a robot within one step of its
+//!    goal aims exactly at it, so that ε can be small.
+//! 4. **Repair** (principle 2: "a new next position is to be resolved for which the robot has to
+//!    be rotated left or right by certain angle"; principle 4: equal rotations are broken toward
+//!    the goal). Robots commit their moves in index order. A move is free when the swept disc keeps
+//!    its radius from every obstacle and the workspace border, keeps the sum of radii from every
+//!    move already committed this step (closest approach of the two motions) and from the current
+//!    disc of every robot still to move. A blocked move is rotated by ±k·[`ROTATION_STEP`]
+//!    (k = 1, 2, … up to ±180°), the smaller rotation first and, between +k and −k, the end nearer
+//!    the goal first; if no rotation is free the robot waits. Waiting is always free (no committed
+//!    move enters a robot's current disc), so every step is valid by construction, and the
+//!    validator checks it again.
+//! 5. **Outcome.** All robots within ε: solved. No improvement of the remaining distance (the
+//!    uncovered target distance, or with waypoints the distance to the target plus the ideal path
+//!    left after it) for `deadlock_steps` steps: a **deadlock**, reported as such (never as
+//!    success); the world's step limit: reported as such.
+
+use std::f64::consts::PI;
+
+use rand::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+use crate::geometry::{Point, closest_approach, dist, point_segment, segment_polygon};
+use crate::ideal::clear_segment;
+use crate::objective::{Objective, next_position};
+use crate::problem::{NavProblem, Trajectories};
+use crate::world::World;
+use mrpp_core::{Ctx, Unsolved};
+use mrpp_evo::space::Minimizer;
+use mrpp_evo::space::Space;
+
+/// The rotation increment of the repair: 5°.
+pub const ROTATION_STEP: f64 = PI / 36.0;
+
+/// How the headings of one step are optimised.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Mode {
+    /// One optimisation over all moving robots' headings (the paper's text).
+    Joint,
+    /// One optimisation per robot in index order (the paper's pseudo-code).
+    PerRobot,
+}
+
+/// What the distance term of a robot measures to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Guide {
+    /// The goal (the paper).
+    Goal,
+    /// The farthest visible point of the robot's ideal path.
+    Waypoints,
+}
+
+/// The per-step loop's settings (the optimiser is passed separately).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Navigation {
+    pub mode: Mode,
+    pub guide: Guide,
+    pub objective: Objective,
+    /// Steps without progress that make a deadlock.
+    pub deadlock_steps: usize,
+    /// Aim exactly at the goal when within one step of it.
+    pub snap: bool,
+}
+
+impl Default for Navigation {
+    fn default() -> Self {
+        Navigation {
+            mode: Mode::Joint,
+            guide: Guide::Waypoints,
+            objective: Objective::default(),
+            deadlock_steps: 50,
+            snap: true,
+        }
+    }
+}
+
+/// The heading straight to the goal.
+fn toward(p: Point, g: Point) -> f64 {
+    (g[1] - p[1]).atan2(g[0] - p[0])
+}
+
+impl Navigation {
+    /// Runs the loop from the starts until every robot arrives, a deadlock, the step limit or the
+    /// deadline; the trajectories are valid by construction.
+    pub fn run(
+        &self,
+        problem: &NavProblem,
+        optimizer: &dyn Minimizer,
+        ctx: &Ctx,
+    ) -> Result<Trajectories, Unsolved> {
+        let w = problem.world();
+        let n = w.robots.len();
+        let mut rng = ChaCha8Rng::seed_from_u64(ctx.seed);
+        let mut pos: Vec<Point> = w.robots.iter().map(|r| r.start).collect();
+        let mut traj: Vec<Vec<Point>> = pos.iter().map(|&p| vec![p]).collect();
+        let (mut best, mut since) = (f64::INFINITY, 0);
+        for _ in 0..w.step_limit {
+            let moving: Vec<usize> = (0..n)
+                .filter(|&i| dist(pos[i], w.robots[i].goal) > w.epsilon)
+                .collect();
+            if moving.is_empty() {
+                return Ok(Trajectories { positions: traj });
+            }
+            if ctx.deadline.expired() {
+                return Err(Unsolved::TimeLimit);
+            }
+            let (targets, left) = self.targets(problem, &pos);
+            if left < best - 1e-9 {
+                (best, since) = (left, 0);
+            } else {
+                since += 1;
+                if since >= self.deadlock_steps {
+                    return Err(Unsolved::GaveUp(format!(
+                        "deadlock: no progress toward the goals for {since} steps ({} robots short)",
+                        moving.len()
+                    )));
+                }
+            }
+            let headings = self.headings(w, &pos, &targets, &moving, optimizer, &mut rng);
+            let next = self.repair(w, &pos, &moving, &headings);
+            for (i, p) in next.into_iter().enumerate() {
+                pos[i] = p;
+                traj[i].push(p);
+            }
+        }
+        if (0..n).all(|i| dist(pos[i], w.robots[i].goal) <= w.epsilon) {
+            return Ok(Trajectories { positions: traj });
+        }
+        Err(Unsolved::GaveUp(format!(
+            "step limit {} reached before every robot arrived",
+            w.step_limit
+        )))
+    }
+
+    /// Each robot's target (see the module doc, step 1) and the total distance left.
+    fn targets(&self, problem: &NavProblem, pos: &[Point]) -> (Vec<Point>, f64) {
+        let w = problem.world();
+        let mut left = 0.0;
+        let targets = w
+            .robots
+            .iter()
+            .zip(problem.ideal_paths())
+            .enumerate()
+            .map(|(i, (r, ideal))| {
+                let path = match (self.guide, ideal) {
+                    (Guide::Waypoints, Some((path, _))) => path,
+                    _ => {
+                        left += dist(pos[i], r.goal);
+                        return r.goal;
+                    }
+                };
+                // The farthest point of the path in clear sight, and the path left after it.
+                let k = (1..path.len())
+                    .rev()
+                    .find(|&k| clear_segment(w, pos[i], path[k], r.radius))
+                    .unwrap_or(1);
+                let rest: f64 = path[k..].windows(2).map(|s| dist(s[0], s[1])).sum();
+                left += dist(pos[i], path[k]) + rest;
+                path[k]
+            })
+            .collect();
+        (targets, left)
+    }
+
+    /// The optimised heading of every moving robot (indexed like `moving`).
+    fn headings(
+        &self,
+        w: &World,
+        pos: &[Point],
+        targets: &[Point],
+        moving: &[usize],
+        optimizer: &dyn Minimizer,
+        rng: &mut ChaCha8Rng,
+    ) -> Vec<f64> {
+        let speeds: Vec<f64> = w.robots.iter().map(|r| r.speed).collect();
+        let straight: Vec<f64> = moving.iter().map(|&i| toward(pos[i], targets[i])).collect();
+        match self.mode {
+            Mode::Joint => {
+                let mut next = pos.to_vec();
+                let mut f = |theta: &[f64]| {
+                    for (k, &i) in moving.iter().enumerate() {
+                        next[i] = next_position(pos[i], speeds[i], theta[k]);
+                    }
+                    self.objective.total(w, &next, targets)
+                };
+                optimizer
+                    .minimize_dyn(&Space::angles(moving.len()), &mut f, &[straight], rng)
+                    .x
+            }
+            Mode::PerRobot => {
+                let mut latest = pos.to_vec();
+                let mut out = Vec::with_capacity(moving.len());
+                for (k, &i) in moving.iter().enumerate() {
+                    let r = &w.robots[i];
+                    let mut f = |theta: &[f64]| {
+                        let p = next_position(pos[i], r.speed, theta[0]);
+                        let mut v = self.objective.own(w, r.speed, r.radius, p, targets[i]);
+                        for (j, q) in w.robots.iter().enumerate() {
+                            if j != i {
+                                v += self.objective.pair(p, latest[j], r.radius + q.radius);
+                            }
+                        }
+                        v
+                    };
+                    let theta = optimizer
+                        .minimize_dyn(&Space::angles(1), &mut f, &[vec![straight[k]]], rng)
+                        .x[0];
+                    latest[i] = next_position(pos[i], r.speed, theta);
+                    out.push(theta);
+                }
+                out
+            }
+        }
+    }
+
+    /// The committed next position of every robot (see the module doc, step 4).
+    fn repair(&self, w: &World, pos: &[Point], moving: &[usize], headings: &[f64]) -> Vec<Point> {
+        let mut next = pos.to_vec();
+        let mut committed = vec![false; pos.len()];
+        for (k, &i) in moving.iter().enumerate() {
+            let r = &w.robots[i];
+            let a = pos[i];
+            let to_goal = dist(a, r.goal);
+            let free = |b: Point| self.free_move(w, i, a, b, pos, &next, &committed);
+            let choice = if self.snap && to_goal <= r.speed && free(r.goal) {
+                Some(r.goal)
+            } else {
+                let base = headings[k];
+                let target = |d: f64| next_position(a, r.speed, base + d);
+                let mut found = None;
+                for step in 0..=36 {
+                    let d = step as f64 * ROTATION_STEP;
+                    let mut options = vec![target(d)];
+                    if step > 0 && step < 36 {
+                        options.push(target(-d));
+                        options.sort_by(|p, q| dist(*p, r.goal).total_cmp(&dist(*q, r.goal)));
+                    }
+                    if let Some(&b) = options.iter().find(|&&b| free(b)) {
+                        found = Some(b);
+                        break;
+                    }
+                }
+                found
+            };
+            next[i] = choice.unwrap_or(a);
+            committed[i] = true;
+        }
+        next
+    }
+
+    /// Whether robot `i` may move from `a` to `b` this step.
+    #[allow(clippy::too_many_arguments)]
+    fn free_move(
+        &self,
+        w: &World,
+        i: usize,
+        a: Point,
+        b: Point,
+        pos: &[Point],
+        next: &[Point],
+        committed: &[bool],
+    ) -> bool {
+        let r = &w.robots[i];
+        if !w.disc_in_workspace(b, r.radius) {
+            return false;
+        }
+        if w.obstacles
+            .iter()
+            .any(|poly| segment_polygon(a, b, poly) < r.radius)
+        {
+            return false;
+        }
+        w.robots.iter().enumerate().all(|(j, q)| {
+            let reach = r.radius + q.radius;
+            j == i
+                || if committed[j] {
+                    closest_approach(a, b, pos[j], next[j]) >= reach
+                } else {
+                    point_segment(pos[j], a, b) >= reach
+                }
+        })
+    }
+}

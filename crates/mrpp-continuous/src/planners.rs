@@ -1,0 +1,253 @@
+//! The continuous planners, each registered in [`crate::PLANNERS`]: the HBMO paper's per-step
+//! navigation ([`crate::navigate`]) with its three heading optimisers from `mrpp-evo` — `hbmo`
+//! (the paper's method, Table 1 parameters as defaults), `de` (DE/rand/1/bin) and `pso`
+//! (inertia-weight PSO), the paper's comparison methods. Every planner takes the navigation
+//! parameters (`mode`, `guide`, `obstacle_term`, `f_dp`, `f_st`, `deadlock_steps`, `snap`) and its
+//! optimiser's.
+
+use mrpp_core::registry::Params;
+use mrpp_core::{Ctx, Param, Planner, PlannerEntry, Unsolved};
+use mrpp_evo::de::De;
+use mrpp_evo::hbmo::Hbmo;
+use mrpp_evo::pso::Pso;
+use mrpp_evo::space::Minimizer;
+
+use crate::navigate::{Guide, Mode, Navigation};
+use crate::objective::{Objective, ObstacleTerm};
+use crate::problem::{NavProblem, Trajectories};
+
+/// The navigation parameters every planner takes, then its own.
+macro_rules! nav_params {
+    ($($own:expr),* $(,)?) => {
+        &[
+            Param { name: "mode", default: "joint", doc: "joint (one optimisation of all headings, the paper's text) or per-robot (the pseudo-code's loop)" },
+            Param { name: "guide", default: "waypoints", doc: "waypoints (aim at the farthest visible point of the ideal path; beyond the paper) or goal (the paper)" },
+            Param { name: "obstacle_term", default: "near", doc: "near (f_st/d within a diameter of obstacles) or inverse (f_st/d everywhere, the paper literally)" },
+            Param { name: "f_dp", default: "100", doc: "weight of overlapping robots in the objective (paper 100)" },
+            Param { name: "f_st", default: "5000", doc: "weight of closeness to obstacles in the objective (paper 5000)" },
+            Param { name: "deadlock_steps", default: "50", doc: "steps without progress reported as a deadlock" },
+            Param { name: "snap", default: "true", doc: "aim exactly at the goal when within one step of it" },
+            $($own),*
+        ]
+    };
+}
+
+/// The per-step planner around one optimiser.
+pub struct StepPlanner {
+    name: &'static str,
+    nav: Navigation,
+    optimizer: Box<dyn Minimizer>,
+}
+
+impl Planner<NavProblem> for StepPlanner {
+    fn name(&self) -> &str {
+        self.name
+    }
+    fn plan(&self, p: &NavProblem, ctx: &Ctx) -> Result<Trajectories, Unsolved> {
+        self.nav.run(p, self.optimizer.as_ref(), ctx)
+    }
+}
+
+/// The navigation settings from a planner's parameters.
+fn navigation(p: &Params) -> mrpp_core::error::Result<Navigation> {
+    let mode = [Mode::Joint, Mode::PerRobot][p.choice("mode", &["joint", "per-robot"])?];
+    let guide = [Guide::Waypoints, Guide::Goal][p.choice("guide", &["waypoints", "goal"])?];
+    let obstacle = [ObstacleTerm::Near, ObstacleTerm::Inverse]
+        [p.choice("obstacle_term", &["near", "inverse"])?];
+    Ok(Navigation {
+        mode,
+        guide,
+        objective: Objective {
+            f_dp: p.get_in("f_dp", 0.0..=1e12)?,
+            f_st: p.get_in("f_st", 0.0..=1e12)?,
+            obstacle,
+        },
+        deadlock_steps: p.get_in("deadlock_steps", 1..=1_000_000)?,
+        snap: p.get("snap")?,
+    })
+}
+
+fn planner(
+    name: &'static str,
+    p: &Params,
+    optimizer: Box<dyn Minimizer>,
+) -> mrpp_core::error::Result<Box<dyn Planner<NavProblem>>> {
+    Ok(Box::new(StepPlanner {
+        name,
+        nav: navigation(p)?,
+        optimizer,
+    }))
+}
+
+/// `hbmo` in the registry.
+pub const HBMO_ENTRY: PlannerEntry<NavProblem> = PlannerEntry {
+    name: "hbmo",
+    about: "honey bee mating optimisation of every robot's heading, step by step (Sahoo et al., the HBMO navigation paper)",
+    params: nav_params![
+        Param {
+            name: "population",
+            default: "10",
+            doc: "bees in the initial population (paper 10)"
+        },
+        Param {
+            name: "drones",
+            default: "9",
+            doc: "drones per mating flight, D (paper 9)"
+        },
+        Param {
+            name: "broods",
+            default: "9",
+            doc: "broods per flight, B (paper 9)"
+        },
+        Param {
+            name: "workers",
+            default: "5",
+            doc: "worker heuristics, W (paper 5)"
+        },
+        Param {
+            name: "spermatheca",
+            default: "9",
+            doc: "spermatheca capacity, C (paper 9)"
+        },
+        Param {
+            name: "speed_max",
+            default: "1",
+            doc: "queen's speed at the start of a flight, S_max (paper 1)"
+        },
+        Param {
+            name: "speed_min",
+            default: "0.2",
+            doc: "queen's speed that ends a flight, S_min (paper 0.2)"
+        },
+        Param {
+            name: "energy_max",
+            default: "1",
+            doc: "queen's energy at the start of a flight, E_max (paper 1)"
+        },
+        Param {
+            name: "alpha",
+            default: "0.93",
+            doc: "speed reduction per transition (paper 0.93)"
+        },
+        Param {
+            name: "gamma",
+            default: "0.93",
+            doc: "energy reduction per transition (paper 0.93)"
+        },
+        Param {
+            name: "flights",
+            default: "20",
+            doc: "mating flights per step (the paper's Maxiter, not given)"
+        },
+        Param {
+            name: "local_steps",
+            default: "3",
+            doc: "trial moves of a worker on one brood"
+        },
+    ],
+    build: |p| {
+        let h = Hbmo {
+            population: p.get_in("population", 1..=100_000)?,
+            drones: p.get_in("drones", 1..=100_000)?,
+            broods: p.get_in("broods", 1..=100_000)?,
+            workers: p.get_in("workers", 1..=100)?,
+            spermatheca: p.get_in("spermatheca", 1..=100_000)?,
+            speed_max: p.get_in("speed_max", 1e-9..=1e9)?,
+            speed_min: p.get_in("speed_min", 0.0..=1e9)?,
+            energy_max: p.get_in("energy_max", 1e-9..=1e9)?,
+            alpha: p.get_in("alpha", 1e-9..=0.999_999)?,
+            gamma: p.get_in("gamma", 1e-9..=0.999_999)?,
+            flights: p.get_in("flights", 1..=1_000_000)?,
+            local_steps: p.get_in("local_steps", 0..=1_000_000)?,
+            ..Hbmo::default()
+        };
+        planner("hbmo", p, Box::new(h))
+    },
+};
+
+/// `de` in the registry.
+pub const DE_ENTRY: PlannerEntry<NavProblem> = PlannerEntry {
+    name: "de",
+    about: "differential evolution (DE/rand/1/bin) of every robot's heading, step by step (the HBMO paper's comparison)",
+    params: nav_params![
+        Param {
+            name: "population",
+            default: "20",
+            doc: "population NP"
+        },
+        Param {
+            name: "generations",
+            default: "40",
+            doc: "generations per step"
+        },
+        Param {
+            name: "f",
+            default: "0.6",
+            doc: "differential weight F"
+        },
+        Param {
+            name: "cr",
+            default: "0.9",
+            doc: "crossover rate CR"
+        },
+    ],
+    build: |p| {
+        let d = De {
+            population: p.get_in("population", 4..=100_000)?,
+            generations: p.get_in("generations", 0..=1_000_000)?,
+            f: p.get_in("f", 0.0..=2.0)?,
+            cr: p.get_in("cr", 0.0..=1.0)?,
+        };
+        planner("de", p, Box::new(d))
+    },
+};
+
+/// `pso` in the registry.
+pub const PSO_ENTRY: PlannerEntry<NavProblem> = PlannerEntry {
+    name: "pso",
+    about: "particle swarm optimisation (inertia weight) of every robot's heading, step by step (the HBMO paper's comparison)",
+    params: nav_params![
+        Param {
+            name: "particles",
+            default: "20",
+            doc: "swarm size"
+        },
+        Param {
+            name: "iterations",
+            default: "40",
+            doc: "iterations per step"
+        },
+        Param {
+            name: "w_start",
+            default: "0.9",
+            doc: "inertia weight at the first iteration"
+        },
+        Param {
+            name: "w_end",
+            default: "0.4",
+            doc: "inertia weight at the last iteration"
+        },
+        Param {
+            name: "c1",
+            default: "2",
+            doc: "cognitive coefficient"
+        },
+        Param {
+            name: "c2",
+            default: "2",
+            doc: "social coefficient"
+        },
+    ],
+    build: |p| {
+        let s = Pso {
+            particles: p.get_in("particles", 1..=100_000)?,
+            iterations: p.get_in("iterations", 0..=1_000_000)?,
+            w_start: p.get_in("w_start", 0.0..=10.0)?,
+            w_end: p.get_in("w_end", 0.0..=10.0)?,
+            c1: p.get_in("c1", 0.0..=10.0)?,
+            c2: p.get_in("c2", 0.0..=10.0)?,
+            ..Pso::default()
+        };
+        planner("pso", p, Box::new(s))
+    },
+};

@@ -1,0 +1,222 @@
+//! The continuous world file: a rectangular workspace, polygon obstacles (any vertex order,
+//! convex or not), and circular robots with radius, speed, start and goal.
+//!
+//! ```json
+//! {"workspace": [0, 0, 500, 400],
+//!  "obstacles": [[[100, 100], [160, 100], [160, 180], [100, 180]]],
+//!  "robots": [{"start": [20, 20], "goal": [460, 360], "radius": 6, "speed": 16}],
+//!  "epsilon": 1.0, "step_limit": 500, "source": "how the file was made (optional)"}
+//! ```
+//! `workspace` is `[x_min, y_min, x_max, y_max]`; units are the paper's pixels (robot radius 6,
+//! speeds 4–20 per step). `epsilon` (default 1.0) is the arrival threshold: a robot within it of
+//! its goal stops (the paper's ε); `step_limit` (default 1000) ends a run. Loading checks every
+//! rule below and names the file and the item that breaks it (`robots[2]: start inside
+//! obstacles[1]`).
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use crate::geometry::{Point, dist, point_polygon, self_intersects, signed_area2};
+use mrpp_core::error::{Error, Result, read_file};
+
+/// One robot: a disc of `radius` moving at most `speed` per step from `start` to `goal`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Robot {
+    pub start: Point,
+    pub goal: Point,
+    pub radius: f64,
+    pub speed: f64,
+}
+
+/// A continuous world (see the module doc).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct World {
+    pub workspace: [f64; 4],
+    #[serde(default)]
+    pub obstacles: Vec<Vec<Point>>,
+    pub robots: Vec<Robot>,
+    #[serde(default = "default_epsilon")]
+    pub epsilon: f64,
+    #[serde(default = "default_step_limit")]
+    pub step_limit: usize,
+    /// How the file was made (e.g. the `mrpp gen continuous` command with its seed); informative.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub source: Option<String>,
+}
+
+fn default_epsilon() -> f64 {
+    1.0
+}
+
+fn default_step_limit() -> usize {
+    1000
+}
+
+/// Most steps a world may ask for.
+pub const MAX_STEP_LIMIT: usize = 1_000_000;
+
+impl World {
+    /// Reads and checks a world file.
+    pub fn load(path: &Path) -> Result<World> {
+        let text = read_file(path)?;
+        World::parse(&text, path)
+    }
+
+    /// Parses and checks world JSON (`path` names it in errors).
+    pub fn parse(text: &str, path: &Path) -> Result<World> {
+        let w: World = serde_json::from_str(text)
+            .map_err(|e| Error::parse(path, e.line(), format!("not a continuous world: {e}")))?;
+        w.check().map_err(|msg| Error::invalid(path, msg))?;
+        Ok(w)
+    }
+
+    /// The first rule the world breaks, as `item: rule`.
+    pub fn check(&self) -> std::result::Result<(), String> {
+        let [x0, y0, x1, y1] = self.workspace;
+        if !self.workspace.iter().all(|v| v.is_finite()) || x0 >= x1 || y0 >= y1 {
+            return Err("workspace: must be [x_min, y_min, x_max, y_max] with min < max".into());
+        }
+        if !(self.epsilon.is_finite() && self.epsilon > 0.0) {
+            return Err(format!("epsilon: must be > 0, got {}", self.epsilon));
+        }
+        if self.step_limit == 0 || self.step_limit > MAX_STEP_LIMIT {
+            return Err(format!(
+                "step_limit: must be 1 to {MAX_STEP_LIMIT}, got {}",
+                self.step_limit
+            ));
+        }
+        for (k, poly) in self.obstacles.iter().enumerate() {
+            let item = format!("obstacles[{k}]");
+            if poly.len() < 3 {
+                return Err(format!(
+                    "{item}: needs at least 3 vertices, has {}",
+                    poly.len()
+                ));
+            }
+            if poly.iter().flatten().any(|v| !v.is_finite()) {
+                return Err(format!("{item}: coordinates must be finite numbers"));
+            }
+            if self_intersects(poly) {
+                return Err(format!("{item}: edges cross each other"));
+            }
+            if signed_area2(poly).abs() <= 1e-12 {
+                return Err(format!("{item}: has no area"));
+            }
+        }
+        if self.robots.is_empty() {
+            return Err("robots: at least one robot is needed".into());
+        }
+        for (i, r) in self.robots.iter().enumerate() {
+            self.check_robot(i, r)?;
+        }
+        for i in 0..self.robots.len() {
+            for j in i + 1..self.robots.len() {
+                let (a, b) = (&self.robots[i], &self.robots[j]);
+                if dist(a.start, b.start) < a.radius + b.radius {
+                    return Err(format!("robots[{i}] and robots[{j}]: starts overlap"));
+                }
+                if dist(a.goal, b.goal) < a.radius + b.radius {
+                    return Err(format!("robots[{i}] and robots[{j}]: goals overlap"));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn check_robot(&self, i: usize, r: &Robot) -> std::result::Result<(), String> {
+        let item = format!("robots[{i}]");
+        if !(r.radius.is_finite() && r.radius > 0.0) {
+            return Err(format!("{item}: radius must be > 0, got {}", r.radius));
+        }
+        if !(r.speed.is_finite() && r.speed > 0.0) {
+            return Err(format!("{item}: speed must be > 0, got {}", r.speed));
+        }
+        for (what, p) in [("start", r.start), ("goal", r.goal)] {
+            if !p.iter().all(|v| v.is_finite()) {
+                return Err(format!("{item}: {what} must be finite"));
+            }
+            if !self.disc_in_workspace(p, r.radius) {
+                return Err(format!(
+                    "{item}: {what} {p:?} is not inside the workspace (radius {})",
+                    r.radius
+                ));
+            }
+            if let Some(k) = self.obstacle_within(p, r.radius) {
+                return Err(format!(
+                    "{item}: {what} {p:?} inside or touching obstacles[{k}]"
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Whether a disc at `p` lies inside the workspace.
+    pub fn disc_in_workspace(&self, p: Point, radius: f64) -> bool {
+        let [x0, y0, x1, y1] = self.workspace;
+        p[0] - radius >= x0 && p[0] + radius <= x1 && p[1] - radius >= y0 && p[1] + radius <= y1
+    }
+
+    /// The first obstacle closer than `radius` to `p` (the disc overlaps it).
+    pub fn obstacle_within(&self, p: Point, radius: f64) -> Option<usize> {
+        self.obstacles
+            .iter()
+            .position(|poly| point_polygon(p, poly) < radius)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn world(extra: &str) -> String {
+        format!(
+            r#"{{"workspace": [0, 0, 100, 100], "obstacles": [[[40, 40], [60, 40], [60, 60], [40, 60]]],
+               "robots": [{{"start": [10, 10], "goal": [90, 90], "radius": 5, "speed": 4}}{extra}]}}"#
+        )
+    }
+
+    #[test]
+    fn bad_worlds_name_the_item() {
+        let p = Path::new("w.json");
+        assert!(World::parse(&world(""), p).is_ok());
+        let cases = [
+            (
+                r#", {"start": [12, 12], "goal": [80, 20], "radius": 5, "speed": 4}"#,
+                "starts overlap",
+            ),
+            (
+                r#", {"start": [50, 50], "goal": [80, 20], "radius": 5, "speed": 4}"#,
+                "robots[1]: start [50.0, 50.0] inside or touching obstacles[0]",
+            ),
+            (
+                r#", {"start": [80, 20], "goal": [20, 80], "radius": -1, "speed": 4}"#,
+                "robots[1]: radius must be > 0",
+            ),
+            (
+                r#", {"start": [80, 20], "goal": [20, 80], "radius": 5, "speed": 0}"#,
+                "speed must be > 0",
+            ),
+            (
+                r#", {"start": [80, 20], "goal": [99, 80], "radius": 5, "speed": 1}"#,
+                "goal [99.0, 80.0] is not inside the workspace",
+            ),
+        ];
+        for (extra, want) in cases {
+            let e = World::parse(&world(extra), p).unwrap_err().to_string();
+            assert!(e.contains(want) && e.contains("w.json"), "{e}");
+        }
+        let e = World::parse("{\"workspace\": [0, 0, 1, 1],", p)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("w.json") && e.contains("not a continuous world"),
+            "{e}"
+        );
+        let bow = r#"{"workspace": [0, 0, 100, 100], "obstacles": [[[0, 0], [20, 20], [20, 0], [0, 20]]], "robots": [{"start": [50, 50], "goal": [90, 90], "radius": 5, "speed": 4}]}"#;
+        let e = World::parse(bow, p).unwrap_err().to_string();
+        assert!(e.contains("obstacles[0]: edges cross"), "{e}");
+    }
+}

@@ -1,0 +1,48 @@
+//! Every continuous planner on seeded worlds: only valid plans (the validator inside `solve`), and
+//! every failure to arrive is a deadlock or the step limit, never an invalid plan.
+
+use mrpp_continuous::generator::random_world;
+use mrpp_continuous::{NavProblem, PLANNERS};
+use mrpp_core::{Ctx, Deadline, Unsolved, solve};
+
+#[test]
+fn planners_emit_only_valid_plans_on_random_worlds() {
+    for seed in 0..4u64 {
+        let world = random_world(4, 3, seed).unwrap();
+        let p = NavProblem::new(world);
+        for entry in PLANNERS {
+            for mode in ["joint", "per-robot"] {
+                let planner = entry.instantiate(&[("mode".into(), mode.into())]).unwrap();
+                let ctx = Ctx::new(seed, Deadline::none());
+                match solve(planner.as_ref(), &p, &ctx) {
+                    Ok(s) => assert!(s.metrics.min_clearance >= -1e-9),
+                    Err(Unsolved::Invalid(why)) => {
+                        panic!("{} {mode} seed {seed}: {why}", entry.name)
+                    }
+                    Err(Unsolved::GaveUp(why)) => {
+                        assert!(
+                            why.contains("deadlock") || why.contains("step limit"),
+                            "{why}"
+                        )
+                    }
+                    Err(Unsolved::TimeLimit) => panic!("no time limit was set"),
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn same_seed_same_trajectories() {
+    let p = NavProblem::new(random_world(5, 4, 7).unwrap());
+    for entry in PLANNERS {
+        let planner = entry.instantiate(&[]).unwrap();
+        let a = solve(planner.as_ref(), &p, &Ctx::new(3, Deadline::none()));
+        let b = solve(planner.as_ref(), &p, &Ctx::new(3, Deadline::none()));
+        match (a, b) {
+            (Ok(a), Ok(b)) => assert_eq!(a.plan, b.plan, "{}", entry.name),
+            (Err(a), Err(b)) => assert_eq!(a.to_string(), b.to_string()),
+            _ => panic!("{}: different outcomes for one seed", entry.name),
+        }
+    }
+}

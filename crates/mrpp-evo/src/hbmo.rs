@@ -1,0 +1,431 @@
+//! Honey Bee Mating Optimization (HBMO), the minimiser of the per-step heading optimisation of
+//! Sahoo et al., "Navigational path planning of multi-robot using Honey Bee Mating Optimization"
+//! (§3, eq. 8–10, and the pseudo-code of §4), after H. A. Abbass, "MBO: Marriage in Honey Bees
+//! Optimization — a Haplometrosis Polygynous Swarming Approach" (CEC 2001) and O. Bozorg Haddad,
+//! A. Afshar, M. A. Mariño, "Honey-Bees Mating Optimization (HBMO) Algorithm: A New Heuristic
+//! Approach for Water Resources Optimization" (Water Resources Management 20, 2006). It is a
+//! box-bounded minimiser over a [`Space`]; in the paper a point is the vector of the robots'
+//! headings θ_i ∈ [−π, π) ([`Space::angles`]), and the objective is minimised (lower is fitter).
+//!
+//! # Steps
+//!
+//! 1. **Initial population.** `population` points — the caller's `init` points first (fixed into
+//!    the space), then uniform samples — are evaluated; the best is the *queen*.
+//! 2. **Mating flight** (repeated `flights` times). The queen starts with speed
+//!    `S = speed_max` and energy `E = energy_max`; `drones` uniformly random drones are generated
+//!    and evaluated, and the spermatheca (capacity `spermatheca`) starts empty. While
+//!    `S > speed_min` **and** the spermatheca is not full **and** `E > 0`: a drone is drawn
+//!    uniformly (with replacement) and mates — its genotype is stored in the spermatheca — with
+//!    probability `exp(−D/S)` (eq. 8), where `D` is the fitness difference between queen and drone;
+//!    then `S ← α·S` (eq. 9) and `E ← γ·E` (eq. 10).
+//! 3. **Broods.** For each of `broods` broods a sperm is taken at random from the spermatheca (a
+//!    random drone if the spermatheca stayed empty) and
+//!    `brood = drone + u·(queen − drone)` with one `u ~ U(0, 1)` per brood (the pseudo-code's
+//!    `Brood_i = Drone_i + rand(0,1)(Queen − Drone_i)`); the difference is the shortest one round
+//!    the circle in a wrapping space ([`Space::delta`]), and the brood is then fixed into the space
+//!    and evaluated.
+//! 4. **Workers.** The workers are `workers` local-search heuristics (Abbass; Haddad et al.):
+//!    worker `k = 0, 1, ...` is a Gaussian hill climber with per-coordinate step
+//!    `σ_k = 0.3·0.4^k·span_j`, which makes `local_steps` trial moves (every coordinate perturbed,
+//!    fixed, evaluated) and keeps each one that strictly improves. Every brood is improved by one
+//!    worker chosen by roulette over the workers' fitness, which starts at 1.0 for each worker and
+//!    grows by the worker's relative improvement `(f_before − f_after)/max(|f_before|, 1e-12)`,
+//!    clipped to `[0, 1]`, after each use ("choose the worker by roulette on its past gains and
+//!    update its fitness"). The workers' fitness is kept across the flights of one call.
+//! 5. **Replacement.** The best brood replaces the queen if it is strictly better.
+//!
+//! The answer is the final queen. NaN objective values count as `+inf` throughout (a NaN drone
+//! never mates, a NaN brood never replaces the queen).
+//!
+//! # Where the paper is silent or was changed
+//!
+//! - **Parameters** are those of the paper's Table 1 (population 10, 9 drones, 9 broods, 5
+//!   workers, spermatheca 9, speed 1.0 → 0.2, energy 1.0, α = γ = 0.93). The number of mating
+//!   flights (the paper's `Maxiter`) is not given; the default is 20 flights. `local_steps` (3)
+//!   and the workers' steps are not given either.
+//! - **Loop condition.** The pseudo-code reads "While Speed > S_min OR Spermatheca is NOT full",
+//!   which never ends when no drone is accepted (the spermatheca then never fills, and the queen's
+//!   speed only matters through the OR); the loop here uses AND, as in Abbass and Haddad et al.
+//!   With `E ← γ·E` the energy never reaches 0, so at the defaults a flight ends when the
+//!   spermatheca is full or after at most 23 transitions (0.93^23 < 0.2). For safety against
+//!   α ≥ 1 a flight also ends after [`MAX_TRANSITIONS`] transitions.
+//! - **The difference `D`** of eq. 8 is, with [`FitnessScale::Relative`] (the default),
+//!   `|f(queen) − f(drone)| / max(|f(queen)|, 1e-12)`; with [`FitnessScale::Absolute`],
+//!   `|f(queen) − f(drone)|` as written. The navigation objective is a distance sum in hundreds of
+//!   length units, so an absolute difference divided by a speed ≤ 1 gives `exp(−D/S) ≈ 0` and no
+//!   drone would ever mate; the relative difference makes the acceptance independent of the
+//!   objective's unit.
+//! - **Drones** are fresh uniform samples at every flight and the spermatheca is emptied between
+//!   flights; drones never replace the queen directly (only through broods: `u` near 0 gives a
+//!   brood near the drone). The other members of the initial population only compete for the
+//!   first queen.
+//! - **Parameter edge cases**: `population` and `drones` below 1 are treated as 1; `workers: 0`
+//!   disables the local search.
+//!
+//! Evaluations per call: `population + flights·(drones + broods·(1 + local_steps))` (without the
+//! `local_steps` term when `workers` is 0); 910 at the defaults.
+
+use rand::{Rng, RngExt};
+use rand_chacha::ChaCha8Rng;
+
+use crate::space::{Counted, Minimizer, Minimum, Space, argmin, initial_points, key};
+
+/// Upper bound on the drone draws of one mating flight, so that a flight ends even when the
+/// speed does not fall (`alpha >= 1`).
+pub const MAX_TRANSITIONS: usize = 10_000;
+
+/// How the fitness difference `D` between queen and drone in the mating probability
+/// `exp(−D/S)` (eq. 8) is measured.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum FitnessScale {
+    /// `D = |f(queen) − f(drone)| / max(|f(queen)|, 1e-12)`: independent of the objective's unit
+    /// (the default, see the module documentation).
+    #[default]
+    Relative,
+    /// `D = |f(queen) − f(drone)|`, as the paper writes it.
+    Absolute,
+}
+
+/// HBMO settings; names and defaults as the paper's Table 1 where it gives them. See the module
+/// documentation for the algorithm.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Hbmo {
+    /// Size of the initial population the first queen is chosen from (default 10; 0 is treated
+    /// as 1).
+    pub population: usize,
+    /// Drones generated for each mating flight (default 9; 0 is treated as 1).
+    pub drones: usize,
+    /// Broods bred after each mating flight (default 9).
+    pub broods: usize,
+    /// Number of workers, i.e. local-search step sizes `0.3·0.4^k` of the span (default 5).
+    pub workers: usize,
+    /// Capacity of the queen's spermatheca (default 9).
+    pub spermatheca: usize,
+    /// Queen's speed at the start of a flight (default 1.0).
+    pub speed_max: f64,
+    /// A flight ends when the speed falls to this (default 0.2).
+    pub speed_min: f64,
+    /// Queen's energy at the start of a flight (default 1.0).
+    pub energy_max: f64,
+    /// Speed reduction factor per transition, `S ← α·S` (eq. 9; default 0.93).
+    pub alpha: f64,
+    /// Energy reduction factor per transition, `E ← γ·E` (eq. 10; default 0.93).
+    pub gamma: f64,
+    /// Number of mating flights (the paper's `Maxiter`, which it does not give; default 20).
+    pub flights: usize,
+    /// Trial moves of a worker on one brood (not in the paper; default 3).
+    pub local_steps: usize,
+    /// How `D` in the mating probability is measured (default [`FitnessScale::Relative`]).
+    pub fitness_scale: FitnessScale,
+}
+
+impl Default for Hbmo {
+    /// Table 1 of the paper: `population: 10, drones: 9, broods: 9, workers: 5, spermatheca: 9,
+    /// speed_max: 1.0, speed_min: 0.2, energy_max: 1.0, alpha: 0.93, gamma: 0.93`; plus
+    /// `flights: 20, local_steps: 3, fitness_scale: Relative` (910 evaluations per call).
+    fn default() -> Self {
+        Hbmo {
+            population: 10,
+            drones: 9,
+            broods: 9,
+            workers: 5,
+            spermatheca: 9,
+            speed_max: 1.0,
+            speed_min: 0.2,
+            energy_max: 1.0,
+            alpha: 0.93,
+            gamma: 0.93,
+            flights: 20,
+            local_steps: 3,
+            fitness_scale: FitnessScale::Relative,
+        }
+    }
+}
+
+impl Hbmo {
+    /// Minimises `f` over `space`, starting from the `init` points (fixed into the space, placed
+    /// first in the initial population; those beyond its size are ignored) and uniform samples.
+    /// Every random choice comes from `rng`. Returns the final queen, its objective value and the
+    /// number of evaluations (see the module documentation).
+    ///
+    /// # Panics
+    /// If an `init` point's length differs from `space.dim()`.
+    pub fn minimize<F: FnMut(&[f64]) -> f64, R: Rng + ?Sized>(
+        &self,
+        space: &Space,
+        f: F,
+        init: &[Vec<f64>],
+        rng: &mut R,
+    ) -> Minimum {
+        let dim = space.dim();
+        let mut f = Counted::new(f);
+
+        // 1. Initial population; the best is the queen.
+        let mut pop = initial_points(space, init, self.population.max(1), rng);
+        let values: Vec<f64> = pop.iter().map(|x| f.eval(x)).collect();
+        let q = argmin(&values).expect("population is never empty");
+        let mut queen = pop.swap_remove(q);
+        let mut queen_value = values[q];
+
+        let sigmas: Vec<f64> = (0..self.workers)
+            .map(|k| 0.3 * 0.4f64.powi(k as i32))
+            .collect();
+        let mut worker_fitness = vec![1.0; self.workers];
+
+        for _ in 0..self.flights {
+            // 2. Mating flight.
+            let drones: Vec<Vec<f64>> =
+                (0..self.drones.max(1)).map(|_| space.sample(rng)).collect();
+            let drone_values: Vec<f64> = drones.iter().map(|d| f.eval(d)).collect();
+            let mut sperm: Vec<usize> = Vec::with_capacity(self.spermatheca);
+            let mut speed = self.speed_max;
+            let mut energy = self.energy_max;
+            let mut transitions = 0;
+            while speed > self.speed_min
+                && sperm.len() < self.spermatheca
+                && energy > 0.0
+                && transitions < MAX_TRANSITIONS
+            {
+                let d = rng.random_range(0..drones.len());
+                let diff = (key(queen_value) - key(drone_values[d])).abs();
+                let diff = match self.fitness_scale {
+                    FitnessScale::Absolute => diff,
+                    FitnessScale::Relative => diff / key(queen_value).abs().max(1e-12),
+                };
+                let p = (-diff / speed).exp();
+                // A NaN probability (e.g. inf − inf) compares false: no mating.
+                if rng.random::<f64>() < p {
+                    sperm.push(d);
+                }
+                speed *= self.alpha;
+                energy *= self.gamma;
+                transitions += 1;
+            }
+
+            // 3. Broods, each improved by a worker (4.); the best is kept.
+            let mut best_brood: Option<(Vec<f64>, f64)> = None;
+            for _ in 0..self.broods {
+                let d = if sperm.is_empty() {
+                    rng.random_range(0..drones.len())
+                } else {
+                    sperm[rng.random_range(0..sperm.len())]
+                };
+                let drone = &drones[d];
+                let u = rng.random::<f64>();
+                let mut brood: Vec<f64> = (0..dim)
+                    .map(|j| drone[j] + u * space.delta(drone, &queen, j))
+                    .collect();
+                space.fix(&mut brood);
+                let mut brood_value = f.eval(&brood);
+
+                if !sigmas.is_empty() {
+                    let k = roulette(&worker_fitness, rng);
+                    let before = key(brood_value);
+                    for _ in 0..self.local_steps {
+                        let mut trial: Vec<f64> = brood
+                            .iter()
+                            .enumerate()
+                            .map(|(j, &b)| b + sigmas[k] * space.span(j) * gaussian(rng))
+                            .collect();
+                        space.fix(&mut trial);
+                        let v = f.eval(&trial);
+                        if key(v) < key(brood_value) {
+                            brood = trial;
+                            brood_value = v;
+                        }
+                    }
+                    worker_fitness[k] += relative_gain(before, key(brood_value));
+                }
+
+                if best_brood
+                    .as_ref()
+                    .is_none_or(|(_, bv)| key(brood_value) < key(*bv))
+                {
+                    best_brood = Some((brood, brood_value));
+                }
+            }
+
+            // 5. The best brood replaces the queen if it is strictly better.
+            if let Some((brood, value)) = best_brood
+                && key(value) < key(queen_value)
+            {
+                queen = brood;
+                queen_value = value;
+            }
+        }
+
+        Minimum {
+            x: queen,
+            value: queen_value,
+            evaluations: f.evaluations,
+        }
+    }
+}
+
+/// Relative improvement from `before` to `after` (both already NaN-free, `after <= before`),
+/// clipped to `[0, 1]`: a step from `+inf` to a number counts 1.
+fn relative_gain(before: f64, after: f64) -> f64 {
+    if before.is_finite() {
+        let g = (before - after) / before.abs().max(1e-12);
+        if g.is_nan() { 0.0 } else { g.clamp(0.0, 1.0) }
+    } else if after < before {
+        1.0
+    } else {
+        0.0
+    }
+}
+
+/// Index drawn with probability proportional to `weights` (all positive and finite).
+fn roulette<R: Rng + ?Sized>(weights: &[f64], rng: &mut R) -> usize {
+    let total: f64 = weights.iter().sum();
+    let mut r = rng.random::<f64>() * total;
+    for (k, &w) in weights.iter().enumerate() {
+        if r < w {
+            return k;
+        }
+        r -= w;
+    }
+    weights.len() - 1
+}
+
+/// A standard normal sample (Box–Muller; `rand` 0.10 has no normal distribution without
+/// `rand_distr`).
+fn gaussian<R: Rng + ?Sized>(rng: &mut R) -> f64 {
+    let u1 = 1.0 - rng.random::<f64>(); // (0, 1]: ln is finite
+    let u2 = rng.random::<f64>();
+    (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()
+}
+
+impl Minimizer for Hbmo {
+    fn minimize_dyn(
+        &self,
+        space: &Space,
+        f: &mut dyn FnMut(&[f64]) -> f64,
+        init: &[Vec<f64>],
+        rng: &mut ChaCha8Rng,
+    ) -> Minimum {
+        self.minimize(space, f, init, rng)
+    }
+
+    fn name(&self) -> &'static str {
+        "HBMO"
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::space::testing::*;
+    use rand::SeedableRng;
+
+    #[test]
+    fn sphere_5d() {
+        // HBMO refines slowly: broods lie on segments from random drones to the queen and the
+        // finest worker step is 0.3·0.4^4 of the span, so 1e-3 takes ~45 000 evaluations here
+        // (DE and PSO need ~3 000).
+        let hbmo = Hbmo {
+            flights: 1000,
+            ..Hbmo::default()
+        };
+        let r = hbmo.minimize(
+            &cube(5, 5.0),
+            sphere,
+            &[],
+            &mut ChaCha8Rng::seed_from_u64(1),
+        );
+        assert!(r.value < 1e-3, "{r:?}");
+        assert_eq!(r.value, sphere(&r.x));
+        assert_eq!(r.evaluations, 10 + 1000 * (9 + 9 * 4));
+    }
+
+    #[test]
+    fn rastrigin_5d() {
+        let hbmo = Hbmo {
+            flights: 1000,
+            ..Hbmo::default()
+        };
+        let r = hbmo.minimize(
+            &cube(5, 5.12),
+            rastrigin,
+            &[],
+            &mut ChaCha8Rng::seed_from_u64(1),
+        );
+        assert!(r.value < 5.0, "{r:?}");
+        assert_eq!(r.value, rastrigin(&r.x));
+    }
+
+    #[test]
+    fn headings_wrap() {
+        let hbmo = Hbmo::default();
+        assert!(heading_error(&hbmo, 3.0, &[]) < 0.01);
+        assert!(heading_error(&hbmo, -3.1, &[vec![3.1]]) < 0.01);
+        assert!(heading_error(&hbmo, -3.1, &[]) < 0.01);
+    }
+
+    #[test]
+    fn contract() {
+        check_contract(&Hbmo::default(), 910);
+        check_init_used(&Hbmo {
+            flights: 1,
+            ..Hbmo::default()
+        });
+        check_nan(&Hbmo::default());
+        assert_eq!(Hbmo::default().name(), "HBMO");
+        let no_workers = Hbmo {
+            workers: 0,
+            ..Hbmo::default()
+        };
+        let r = no_workers.minimize(
+            &cube(2, 1.0),
+            sphere,
+            &[],
+            &mut ChaCha8Rng::seed_from_u64(0),
+        );
+        assert_eq!(r.evaluations, 10 + 20 * 18);
+    }
+
+    #[test]
+    fn drones_mate_on_large_objectives() {
+        // With values in the hundreds, the relative difference lets drones mate; the absolute one
+        // does not. Observe it through the broods: with an empty spermatheca the broods come
+        // from all drones, with matings only from the mated ones, so the runs differ.
+        let space = cube(3, 5.0);
+        let f = |x: &[f64]| 300.0 + sphere(x);
+        let run = |scale| {
+            Hbmo {
+                fitness_scale: scale,
+                ..Hbmo::default()
+            }
+            .minimize(&space, f, &[], &mut ChaCha8Rng::seed_from_u64(2))
+        };
+        let rel = run(FitnessScale::Relative);
+        let abs = run(FitnessScale::Absolute);
+        assert_ne!(rel, abs);
+        assert!(rel.value < 300.5, "{rel:?}");
+    }
+
+    #[test]
+    fn helpers() {
+        assert_eq!(relative_gain(10.0, 5.0), 0.5);
+        assert_eq!(relative_gain(-10.0, -50.0), 1.0);
+        assert_eq!(relative_gain(f64::INFINITY, 1.0), 1.0);
+        assert_eq!(relative_gain(f64::INFINITY, f64::INFINITY), 0.0);
+        assert_eq!(relative_gain(0.0, 0.0), 0.0);
+        let mut rng = ChaCha8Rng::seed_from_u64(1);
+        let mut counts = [0usize; 3];
+        for _ in 0..30_000 {
+            counts[roulette(&[1.0, 2.0, 3.0], &mut rng)] += 1;
+        }
+        assert!(
+            (counts[2] as f64 / 30_000.0 - 0.5).abs() < 0.02,
+            "{counts:?}"
+        );
+        let (mut m, mut s) = (0.0, 0.0);
+        for _ in 0..20_000 {
+            let g = gaussian(&mut rng);
+            m += g;
+            s += g * g;
+        }
+        assert!((m / 20_000.0f64).abs() < 0.03 && (s / 20_000.0 - 1.0f64).abs() < 0.05);
+    }
+}
