@@ -8,8 +8,11 @@
 //! - [`trees`] (`mrpp-trees`): single-lane trees (generator, Push-Swap-Wait, GP);
 //! - [`formation`] (`mrpp-formation`): formations on Voronoi roadmaps of polygon maps
 //!   (sequential, GA, exact);
+//! - [`continuous`] (`mrpp-continuous`): circular robots among polygons, one heading per step
+//!   (HBMO, DE, PSO);
 //! - [`evo`] (`mrpp-evo`): generic, seeded metaheuristics.
 
+pub use mrpp_continuous as continuous;
 pub use mrpp_core as core;
 pub use mrpp_evo as evo;
 pub use mrpp_formation as formation;

@@ -1,0 +1,184 @@
+//! The continuous family from the command line: every planner's plan on the bundled 6-robot /
+//! 4-obstacle world is valid for `mrpp validate` (and, when present, for the independent checker
+//! `tools/check/continuous.py`) with the same metrics; bad worlds are one-line errors naming the
+//! file and the item; a deadlock is reported as such, exit 3, never as a solved plan.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("mrpp-continuous-test-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    dir.join(name)
+}
+
+fn mrpp(args: &[&str]) -> (i32, String, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_mrpp"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .unwrap();
+    (
+        o.status.code().unwrap_or(-1),
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+/// The value after `key ` in a `a 1 | b 2` summary line.
+fn metric(line: &str, key: &str) -> f64 {
+    line.split(" | ")
+        .find_map(|p| {
+            p.trim()
+                .split_once(' ')
+                .filter(|(k, _)| k.ends_with(key))
+                .map(|(_, v)| v)
+        })
+        .unwrap_or_else(|| panic!("no {key} in `{line}`"))
+        .parse()
+        .unwrap()
+}
+
+#[test]
+fn planners_plans_validate_and_render() {
+    let w = "data/continuous/six-robots-four-obstacles.json";
+    let checker = root().join("tools/check/continuous.py");
+    for planner in ["hbmo", "de", "pso"] {
+        let out = tmp(&format!("{planner}.json"));
+        let (code, stdout, err) = mrpp(&[
+            "solve",
+            "--world",
+            w,
+            "--planner",
+            planner,
+            "--seed",
+            "4",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{planner}: {stdout}{err}");
+        let (code, valid, err) = mrpp(&["validate", "--world", w, "--plan", out.to_str().unwrap()]);
+        assert_eq!(code, 0, "{planner}: {err}");
+        assert!(valid.starts_with("valid: 6 agents"), "{valid}");
+        if checker.exists() {
+            let o = Command::new("python3")
+                .arg(&checker)
+                .arg(w)
+                .arg(&out)
+                .current_dir(root())
+                .output()
+                .unwrap();
+            let line = String::from_utf8_lossy(&o.stdout).trim().to_string();
+            let v: serde_json::Value = serde_json::from_str(&line).unwrap();
+            assert!(
+                o.status.success() && v["valid"] == true,
+                "{planner}: {line}"
+            );
+            for key in ["total_path", "mean_utd"] {
+                let (ours, theirs) = (metric(&valid, key), v[key].as_f64().unwrap());
+                assert!(
+                    (ours - theirs).abs() < 1e-6 * ours.abs().max(1.0),
+                    "{planner} {key}: {ours} vs {theirs}"
+                );
+            }
+            assert_eq!(metric(&valid, "steps") as u64, v["steps"].as_u64().unwrap());
+        }
+    }
+    let svg = tmp("plan.svg");
+    let plan = tmp("hbmo.json");
+    let (code, _, err) = mrpp(&[
+        "render",
+        "--world",
+        w,
+        "--plan",
+        plan.to_str().unwrap(),
+        "--out",
+        svg.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{err}");
+    assert!(std::fs::read_to_string(&svg).unwrap().contains("<polyline"));
+    // A tampered plan (one robot teleported through an obstacle) is refused with exit 1.
+    let text = std::fs::read_to_string(&plan).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    v["agents"][0]["path"][1] = serde_json::json!([250.0, 200.0]);
+    let bad = tmp("bad-plan.json");
+    std::fs::write(&bad, v.to_string()).unwrap();
+    let (code, out, err) = mrpp(&["validate", "--world", w, "--plan", bad.to_str().unwrap()]);
+    assert_eq!(code, 1, "{out}{err}");
+    assert!(err.contains("robot 0"), "{err}");
+}
+
+#[test]
+fn bad_worlds_are_one_line_errors_naming_the_item() {
+    let base = r#"{"workspace": [0, 0, 100, 100], "obstacles": [[[40, 40], [60, 40], [60, 60], [40, 60]]], "robots": [{"start": [10, 10], "goal": [90, 90], "radius": 5, "speed": 4}ROBOT]}"#;
+    let cases = [
+        (
+            r#", {"start": [12, 12], "goal": [80, 20], "radius": 5, "speed": 4}"#,
+            "robots[0] and robots[1]: starts overlap",
+        ),
+        (
+            r#", {"start": [50, 50], "goal": [80, 20], "radius": 5, "speed": 4}"#,
+            "robots[1]: start [50.0, 50.0] inside or touching obstacles[0]",
+        ),
+        (
+            r#", {"start": [80, 20], "goal": [20, 80], "radius": -2, "speed": 4}"#,
+            "robots[1]: radius must be > 0",
+        ),
+        ("BROKEN", "not a continuous world"),
+    ];
+    for (i, (robot, needle)) in cases.iter().enumerate() {
+        let text = if *robot == "BROKEN" {
+            "{\"workspace\": [0, 0,".to_string()
+        } else {
+            base.replace("ROBOT", robot)
+        };
+        let f = tmp(&format!("bad{i}.json"));
+        std::fs::write(&f, text).unwrap();
+        let out = tmp(&format!("never{i}.json"));
+        let (code, _, err) = mrpp(&[
+            "solve",
+            "--world",
+            f.to_str().unwrap(),
+            "--planner",
+            "de",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 1, "{err}");
+        assert_eq!(err.lines().count(), 1, "{err}");
+        assert!(
+            err.contains(&format!("bad{i}.json")) && err.contains(needle),
+            "{err}"
+        );
+        assert!(!err.contains("panicked") && !out.exists());
+    }
+}
+
+#[test]
+fn a_deadlock_is_reported_as_such_with_exit_3() {
+    // A robot behind a wall across the whole corridor: its goal is unreachable.
+    let f = tmp("walled.json");
+    std::fs::write(&f, r#"{"workspace": [0, 0, 100, 40], "obstacles": [[[45, 0], [55, 0], [55, 40], [45, 40]]],
+        "robots": [{"start": [10, 20], "goal": [90, 20], "radius": 5, "speed": 4}], "step_limit": 300}"#).unwrap();
+    let out = tmp("walled-plan.json");
+    let (code, stdout, err) = mrpp(&[
+        "solve",
+        "--world",
+        f.to_str().unwrap(),
+        "--planner",
+        "pso",
+        "-p",
+        "deadlock_steps=20",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 3, "{stdout}{err}");
+    assert!(
+        stdout.contains("deadlock") || err.contains("deadlock"),
+        "{stdout}{err}"
+    );
+}
