@@ -27,7 +27,7 @@ pub fn cross(a: Point, b: Point) -> f64 {
 
 /// Euclidean length of `a`.
 pub fn norm(a: Point) -> f64 {
-    a[0].hypot(a[1])
+    (a[0] * a[0] + a[1] * a[1]).sqrt()
 }
 
 /// Euclidean distance.
@@ -91,6 +91,34 @@ pub fn inside(p: Point, poly: &[Point]) -> bool {
 /// The polygon's edges as vertex pairs.
 pub fn edges(poly: &[Point]) -> impl Iterator<Item = (Point, Point)> + '_ {
     (0..poly.len()).map(move |i| (poly[i], poly[(i + 1) % poly.len()]))
+}
+
+/// The polygon's bounding box `[x_min, y_min, x_max, y_max]`.
+pub fn bounding_box(poly: &[Point]) -> [f64; 4] {
+    poly.iter().fold(
+        [
+            f64::INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NEG_INFINITY,
+        ],
+        |b, v| {
+            [
+                b[0].min(v[0]),
+                b[1].min(v[1]),
+                b[2].max(v[0]),
+                b[3].max(v[1]),
+            ]
+        },
+    )
+}
+
+/// The distance from `p` to the box `[x_min, y_min, x_max, y_max]` (0 inside): a lower bound on
+/// its distance to anything in the box.
+pub fn box_distance(p: Point, b: &[f64; 4]) -> f64 {
+    let dx = (b[0] - p[0]).max(p[0] - b[2]).max(0.0);
+    let dy = (b[1] - p[1]).max(p[1] - b[3]).max(0.0);
+    (dx * dx + dy * dy).sqrt()
 }
 
 /// Distance from `p` to the polygon (0 inside).

@@ -130,8 +130,7 @@ impl Navigation {
                     )));
                 }
             }
-            let headings = self.headings(w, &pos, &targets, &moving, optimizer, &mut rng);
-            let next = self.repair(w, &pos, &moving, &headings);
+            let next = self.step(problem, &pos, &targets, &moving, optimizer, &mut rng);
             for (i, p) in next.into_iter().enumerate() {
                 pos[i] = p;
                 traj[i].push(p);
@@ -146,8 +145,23 @@ impl Navigation {
         )))
     }
 
+    /// One step from positions `pos`: the optimised headings of the `moving` robots toward their
+    /// `targets`, repaired into collision-free moves; every robot's next position.
+    pub fn step(
+        &self,
+        problem: &NavProblem,
+        pos: &[Point],
+        targets: &[Point],
+        moving: &[usize],
+        optimizer: &dyn Minimizer,
+        rng: &mut ChaCha8Rng,
+    ) -> Vec<Point> {
+        let headings = self.headings(problem, pos, targets, moving, optimizer, rng);
+        self.repair(problem.world(), pos, moving, &headings)
+    }
+
     /// Each robot's target (see the module doc, step 1) and the total distance left.
-    fn targets(&self, problem: &NavProblem, pos: &[Point]) -> (Vec<Point>, f64) {
+    pub fn targets(&self, problem: &NavProblem, pos: &[Point]) -> (Vec<Point>, f64) {
         let w = problem.world();
         let mut left = 0.0;
         let targets = w
@@ -179,13 +193,14 @@ impl Navigation {
     /// The optimised heading of every moving robot (indexed like `moving`).
     fn headings(
         &self,
-        w: &World,
+        problem: &NavProblem,
         pos: &[Point],
         targets: &[Point],
         moving: &[usize],
         optimizer: &dyn Minimizer,
         rng: &mut ChaCha8Rng,
     ) -> Vec<f64> {
+        let w = problem.world();
         let speeds: Vec<f64> = w.robots.iter().map(|r| r.speed).collect();
         let straight: Vec<f64> = moving.iter().map(|&i| toward(pos[i], targets[i])).collect();
         match self.mode {
@@ -195,7 +210,7 @@ impl Navigation {
                     for (k, &i) in moving.iter().enumerate() {
                         next[i] = next_position(pos[i], speeds[i], theta[k]);
                     }
-                    self.objective.total(w, &next, targets)
+                    self.objective.total(problem, &next, targets)
                 };
                 optimizer
                     .minimize_dyn(&Space::angles(moving.len()), &mut f, &[straight], rng)
@@ -208,7 +223,9 @@ impl Navigation {
                     let r = &w.robots[i];
                     let mut f = |theta: &[f64]| {
                         let p = next_position(pos[i], r.speed, theta[0]);
-                        let mut v = self.objective.own(w, r.speed, r.radius, p, targets[i]);
+                        let mut v = self
+                            .objective
+                            .own(problem, r.speed, r.radius, p, targets[i]);
                         for (j, q) in w.robots.iter().enumerate() {
                             if j != i {
                                 v += self.objective.pair(p, latest[j], r.radius + q.radius);

@@ -19,8 +19,8 @@
 //!
 //! **The target.** The distance term measures to a *target* per robot: its goal (the paper), or,
 //! with the waypoint guide of [`crate::navigate`], the farthest visible point of its ideal path.
-use crate::geometry::{Point, dist, point_polygon};
-use crate::world::World;
+use crate::geometry::{Point, box_distance, dist, point_polygon};
+use crate::problem::NavProblem;
 
 /// The floor of `d_i` in the obstacle term.
 pub const MIN_OBSTACLE_DISTANCE: f64 = 1e-3;
@@ -56,40 +56,57 @@ impl Default for Objective {
 
 /// The next position for heading `theta` at speed `v`.
 pub fn next_position(p: Point, v: f64, theta: f64) -> Point {
-    [p[0] + v * theta.cos(), p[1] + v * theta.sin()]
+    let (sin, cos) = theta.sin_cos();
+    [p[0] + v * cos, p[1] + v * sin]
 }
 
 impl Objective {
     /// One robot's own terms: `v + ‖p' − target‖` plus its obstacle term.
-    pub fn own(&self, world: &World, v: f64, radius: f64, next: Point, target: Point) -> f64 {
+    pub fn own(&self, p: &NavProblem, v: f64, radius: f64, next: Point, target: Point) -> f64 {
+        let world = p.world();
         if world.obstacles.is_empty() {
             return v + dist(next, target);
         }
+        let reach = 2.0 * radius;
         let d = world
             .obstacles
             .iter()
-            .map(|poly| point_polygon(next, poly))
+            .zip(p.obstacle_boxes())
+            .map(|(poly, b)| {
+                // Near: obstacles beyond a diameter (by their bounding box) cost nothing.
+                if self.obstacle == ObstacleTerm::Near && box_distance(next, b) >= reach {
+                    f64::INFINITY
+                } else {
+                    point_polygon(next, poly)
+                }
+            })
             .fold(f64::INFINITY, f64::min)
             .max(MIN_OBSTACLE_DISTANCE);
         let obstacle = match self.obstacle {
             ObstacleTerm::Inverse => self.f_st / d,
-            ObstacleTerm::Near => self.f_st * (1.0 / d - 1.0 / (2.0 * radius)).max(0.0),
+            ObstacleTerm::Near => self.f_st * (1.0 / d - 1.0 / reach).max(0.0),
         };
         v + dist(next, target) + obstacle
     }
 
     /// The pair term of two robots at `a` and `b` needing `reach` (the sum of their radii).
     pub fn pair(&self, a: Point, b: Point, reach: f64) -> f64 {
-        let short = (dist(a, b) - reach).min(0.0);
+        let (dx, dy) = (a[0] - b[0], a[1] - b[1]);
+        let d2 = dx * dx + dy * dy;
+        if d2 >= reach * reach {
+            return 0.0;
+        }
+        let short = d2.sqrt() - reach;
         self.f_dp * short * short
     }
 
     /// The whole objective for next positions `next` and distance targets `targets` (one per
     /// robot; robots that do not move this step appear at their current positions).
-    pub fn total(&self, world: &World, next: &[Point], targets: &[Point]) -> f64 {
+    pub fn total(&self, problem: &NavProblem, next: &[Point], targets: &[Point]) -> f64 {
+        let world = problem.world();
         let mut f = 0.0;
         for (i, (r, &p)) in world.robots.iter().zip(next).enumerate() {
-            f += self.own(world, r.speed, r.radius, p, targets[i]);
+            f += self.own(problem, r.speed, r.radius, p, targets[i]);
             for (j, q) in world.robots.iter().enumerate().skip(i + 1) {
                 f += self.pair(p, next[j], r.radius + q.radius);
             }
@@ -106,7 +123,7 @@ mod tests {
     #[test]
     fn heading_to_the_goal_is_best_for_one_robot() {
         // baselines §6: one robot from (0,0) to (10,0), v = 1: θ = 0 gives F = 10.
-        let w = World {
+        let w = crate::world::World {
             workspace: [-20.0, -20.0, 20.0, 20.0],
             obstacles: vec![],
             robots: vec![Robot {
@@ -119,6 +136,7 @@ mod tests {
             step_limit: 10,
             source: None,
         };
+        let w = NavProblem::new(w);
         let o = Objective::default();
         let f = |t: f64| o.total(&w, &[next_position([0.0, 0.0], 1.0, t)], &[[10.0, 0.0]]);
         assert!((f(0.0) - 10.0).abs() < 1e-12);

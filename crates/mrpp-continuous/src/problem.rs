@@ -20,7 +20,7 @@ use std::sync::Arc;
 
 use serde::Serialize;
 
-use crate::geometry::{Point, closest_approach, dist, segment_polygon};
+use crate::geometry::{Point, bounding_box, closest_approach, dist, segment_polygon};
 use crate::ideal::{corner_nodes, ideal_path};
 use crate::world::World;
 use mrpp_core::Problem;
@@ -34,6 +34,8 @@ pub struct NavProblem {
     world: Arc<World>,
     /// Per robot: its ideal path (points, length), `None` when its goal cannot be reached.
     ideal: Vec<Option<(Vec<Point>, f64)>>,
+    /// Per obstacle: its bounding box.
+    boxes: Vec<[f64; 4]>,
 }
 
 /// Positions per robot per step: `positions[i][t]`, the same number of steps for every robot.
@@ -183,6 +185,7 @@ impl NavProblem {
             })
             .collect();
         NavProblem {
+            boxes: world.obstacles.iter().map(|o| bounding_box(o)).collect(),
             world: Arc::new(world),
             ideal,
         }
@@ -190,6 +193,11 @@ impl NavProblem {
 
     pub fn world(&self) -> &World {
         &self.world
+    }
+
+    /// Each obstacle's bounding box `[x_min, y_min, x_max, y_max]`.
+    pub fn obstacle_boxes(&self) -> &[[f64; 4]] {
+        &self.boxes
     }
 
     /// Each robot's ideal path length (`None`: its goal cannot be reached).

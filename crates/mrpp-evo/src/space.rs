@@ -95,6 +95,8 @@ impl Space {
         for ((xi, &lo), &hi) in x.iter_mut().zip(&self.lo).zip(&self.hi) {
             if xi.is_nan() || (self.wrap && xi.is_infinite()) {
                 *xi = 0.5 * (lo + hi);
+            } else if self.wrap && (lo..hi).contains(xi) {
+                // Already inside: nothing to do (the common case, without a division).
             } else if self.wrap {
                 let y = lo + (*xi - lo).rem_euclid(hi - lo);
                 // Rounding can land exactly on `hi` (e.g. for a tiny negative offset).
