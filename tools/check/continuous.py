@@ -51,14 +51,17 @@ Rules (TOL = 1e-9 on every distance rule):
   Rules 6 and 7 only look at steps: a plan with T = 0 (every robot already
   within epsilon of its goal) is not checked against obstacles or other
   robots at all. "step_limit" is read (and must be well formed) but T is NOT
-  compared with it: the rules above do not ask for that.
+  compared with it: the rules above do not ask for that. The world itself is
+  only checked for form: starts or goals outside the workspace, inside
+  obstacles or overlapping, and self-crossing polygons are not refused; the
+  plan is judged by rules 1-7 alone.
 Metrics of a valid plan: steps = T; total_path = sum over robots of the sum of
   their step lengths; mean_utd = mean over t = 0..T of sum_i |goal_i - p_i(t)|;
   min_clearance = least of (rule-6 distance - r) over robots, steps and
   obstacles and (rule-7 distance - r_a - r_b) over pairs and steps; when there
   is nothing to measure (T = 0, or one robot and no obstacles) it is +infinity
-  and printed as null (a claimed null or a claimed number is then not an
-  error only if null; a finite claim is a mismatch).
+  and printed as null (a claimed number is then a mismatch; a claimed null
+  is, as always, not compared).
   Claimed metrics (not null) "steps", "total_path", "mean_utd",
   "min_clearance" must match: steps exactly (26 or 26.0), floats to relative
   1e-9 (absolute 1e-9 near zero); a mismatch makes the plan invalid, naming
@@ -110,10 +113,6 @@ def fmt(p):
 
 def sub(a, b):
     return (a[0] - b[0], a[1] - b[1])
-
-
-def norm(v):
-    return math.hypot(v[0], v[1])
 
 
 def dist(a, b):
@@ -442,7 +441,8 @@ CASES = [  # (name, world, plan, expected metrics dict or reason fragment)
      "agent 1: position 1"),
     ("NaN coordinate", VALID_W,
      json.dumps(p_make(VALID_W, VALID_P)).replace("[1, 5]", "[1, NaN]"), "agent 0: position 1"),
-    ("agent without start", VALID_W, p_make(VALID_W, VALID_P, agents=[{"path": p} for p in VALID_P]),
+    ("agent without start", VALID_W,
+     p_make(VALID_W, VALID_P, agents=[{"path": p} for p in VALID_P]),
      "agent 0: 'start' must be [x, y], got None"),
     # rule 2
     ("wrong start", VALID_W, p_make(VALID_W, [[[1, 1.5], [1, 5], [1, 9]], VALID_P[1]]),
@@ -511,9 +511,11 @@ CASES = [  # (name, world, plan, expected metrics dict or reason fragment)
     ("malformed plan JSON", VALID_W, '{"solved": true,\n "agents": [}', "line 2"),
     ("malformed world JSON", '{"workspace": [0, 0, 1, 1],\n\n "robots": ]',
      p_make(VALID_W, VALID_P), "line 3"),
-    ("world without robots", w_make([]), p_make(w_make([]), []), "'robots' must be a non-empty list"),
+    ("world without robots", w_make([]), p_make(w_make([]), []),
+     "'robots' must be a non-empty list"),
     ("world with a bad obstacle", w_make([([1, 1], [1, 1], 1, 1)], [[(0, 0), (1, 1)]]),
-     p_make(w_make([([1, 1], [1, 1], 1, 1)]), [[[1, 1]]]), "obstacle 0 is not a list of at least 3"),
+     p_make(w_make([([1, 1], [1, 1], 1, 1)]), [[[1, 1]]]),
+     "obstacle 0 is not a list of at least 3"),
     ("world with a negative radius", w_make([([1, 1], [1, 1], -1, 1)]),
      p_make(w_make([([1, 1], [1, 1], -1, 1)]), [[[1, 1]]]),
      "robot 0: 'radius' must be a non-negative number"),
@@ -556,7 +558,8 @@ def self_test():
                       and all(close(out[key], v) for key, v in expect.items()))
             else:  # a malformed file must be named in the reason
                 reason = str(out.get("reason", ""))
-                bad_file = wpath if isinstance(world, str) else ppath if isinstance(plan, str) else None
+                bad_file = (wpath if isinstance(world, str)
+                            else ppath if isinstance(plan, str) else None)
                 ok = (out.get("valid") is False and expect in reason and rc == 1
                       and (bad_file is None or bad_file in reason))
             record(ok, f"{name}: expected {expect!r}, got {out!r} (exit {rc})")

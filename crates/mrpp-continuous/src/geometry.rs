@@ -177,6 +177,55 @@ pub fn self_intersects(poly: &[Point]) -> bool {
     false
 }
 
+/// Points bucketed in square cells over a box, to find the points near a point without looking
+/// at all of them.
+#[derive(Debug, Clone)]
+pub struct PointGrid {
+    origin: Point,
+    cell: f64,
+    cols: usize,
+    rows: usize,
+    cells: Vec<Vec<usize>>,
+}
+
+impl PointGrid {
+    /// Buckets `points` (all inside `bounds` = `[x_min, y_min, x_max, y_max]`) in cells of side
+    /// `cell` (> 0).
+    pub fn new(points: &[Point], bounds: [f64; 4], cell: f64) -> Self {
+        let cell = cell.max(1e-9);
+        let cols = (((bounds[2] - bounds[0]) / cell).ceil() as usize).clamp(1, 4096);
+        let rows = (((bounds[3] - bounds[1]) / cell).ceil() as usize).clamp(1, 4096);
+        let mut g = PointGrid {
+            origin: [bounds[0], bounds[1]],
+            cell,
+            cols,
+            rows,
+            cells: vec![Vec::new(); cols * rows],
+        };
+        for (i, &p) in points.iter().enumerate() {
+            let (c, r) = g.index(p);
+            g.cells[r * cols + c].push(i);
+        }
+        g
+    }
+
+    fn index(&self, p: Point) -> (usize, usize) {
+        let c = ((p[0] - self.origin[0]) / self.cell).floor().max(0.0) as usize;
+        let r = ((p[1] - self.origin[1]) / self.cell).floor().max(0.0) as usize;
+        (c.min(self.cols - 1), r.min(self.rows - 1))
+    }
+
+    /// The indices of the points in the cells that a disc of `radius` around `p` overlaps (a
+    /// superset of the points within `radius`), in cell order.
+    pub fn near(&self, p: Point, radius: f64) -> impl Iterator<Item = usize> + '_ {
+        let (c0, r0) = self.index([p[0] - radius, p[1] - radius]);
+        let (c1, r1) = self.index([p[0] + radius, p[1] + radius]);
+        (r0..=r1).flat_map(move |r| {
+            (c0..=c1).flat_map(move |c| self.cells[r * self.cols + c].iter().copied())
+        })
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -9,7 +9,8 @@
 //! - [`problem`]: [`NavProblem`], trajectories, the validator and the paper's metrics;
 //! - [`ideal`]: the ideal (shortest clear) path of each robot, for ATPD;
 //! - [`objective`]: the paper's per-step objective (eq. 7); [`navigate`]: the per-step loop and
-//!   its collision repair; [`planners`]: `hbmo`, `de`, `pso`, registered in [`PLANNERS`];
+//!   its collision repair; [`orca`]: ORCA (RVO2's method); [`planners`]: `hbmo`, `de`, `pso`,
+//!   `orca`, registered in [`PLANNERS`];
 //! - [`generator`]: seeded worlds and RVO2's circle; [`plan_file`]: plans in the envelope;
 //!   [`render`]: an SVG picture.
 
@@ -18,6 +19,7 @@ pub mod geometry;
 pub mod ideal;
 pub mod navigate;
 pub mod objective;
+pub mod orca;
 pub mod plan_file;
 pub mod planners;
 pub mod problem;
@@ -35,4 +37,5 @@ pub static PLANNERS: &[mrpp_core::PlannerEntry<NavProblem>] = &[
     planners::HBMO_ENTRY,
     planners::DE_ENTRY,
     planners::PSO_ENTRY,
+    planners::ORCA_ENTRY,
 ];

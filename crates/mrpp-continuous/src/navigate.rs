@@ -16,7 +16,9 @@
 //!    goal aims exactly at it, so that ε can be small.
 //! 4. **Repair** (principle 2: "a new next position is to be resolved for which the robot has to
 //!    be rotated left or right by certain angle"; principle 4: equal rotations are broken toward
-//!    the goal). Robots commit their moves in index order. A move is free when the swept disc keeps
+//!    the goal). Robots commit their moves in index order, except that a robot whose proposed move
+//!    enters the current disc of another lets that one commit first (recursively; a cycle falls
+//!    back to the index order), so robots can follow each other closely. A move is free when the swept disc keeps
 //!    its radius from every obstacle and the workspace border, keeps the sum of radii from every
 //!    move already committed this step (closest approach of the two motions) and from the current
 //!    disc of every robot still to move. A blocked move is rotated by ±k·[`ROTATION_STEP`]
@@ -34,7 +36,9 @@ use std::f64::consts::PI;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use crate::geometry::{Point, closest_approach, dist, point_segment, segment_polygon};
+use crate::geometry::{
+    Point, PointGrid, closest_approach, dist, norm, point_segment, segment_polygon,
+};
 use crate::ideal::clear_segment;
 use crate::objective::{Objective, next_position};
 use crate::problem::{NavProblem, Trajectories};
@@ -88,6 +92,42 @@ impl Default for Navigation {
     }
 }
 
+/// Where the robots would like to go this step: one displacement (at most the robot's speed
+/// long) per moving robot, which the loop then repairs into collision-free moves.
+pub trait Propose {
+    fn propose(
+        &mut self,
+        nav: &Navigation,
+        problem: &NavProblem,
+        pos: &[Point],
+        targets: &[Point],
+        moving: &[usize],
+        rng: &mut ChaCha8Rng,
+    ) -> Vec<Point>;
+}
+
+/// The HBMO paper's proposal: optimised headings at full speed.
+pub struct HeadingSearch<'a>(pub &'a dyn Minimizer);
+
+impl Propose for HeadingSearch<'_> {
+    fn propose(
+        &mut self,
+        nav: &Navigation,
+        problem: &NavProblem,
+        pos: &[Point],
+        targets: &[Point],
+        moving: &[usize],
+        rng: &mut ChaCha8Rng,
+    ) -> Vec<Point> {
+        let headings = nav.headings(problem, pos, targets, moving, self.0, rng);
+        moving
+            .iter()
+            .zip(headings)
+            .map(|(&i, t)| next_position([0.0, 0.0], problem.world().robots[i].speed, t))
+            .collect()
+    }
+}
+
 /// The heading straight to the goal.
 fn toward(p: Point, g: Point) -> f64 {
     (g[1] - p[1]).atan2(g[0] - p[0])
@@ -99,7 +139,7 @@ impl Navigation {
     pub fn run(
         &self,
         problem: &NavProblem,
-        optimizer: &dyn Minimizer,
+        proposer: &mut dyn Propose,
         ctx: &Ctx,
     ) -> Result<Trajectories, Unsolved> {
         let w = problem.world();
@@ -130,7 +170,7 @@ impl Navigation {
                     )));
                 }
             }
-            let next = self.step(problem, &pos, &targets, &moving, optimizer, &mut rng);
+            let next = self.step(problem, &pos, &targets, &moving, proposer, &mut rng);
             for (i, p) in next.into_iter().enumerate() {
                 pos[i] = p;
                 traj[i].push(p);
@@ -145,19 +185,19 @@ impl Navigation {
         )))
     }
 
-    /// One step from positions `pos`: the optimised headings of the `moving` robots toward their
-    /// `targets`, repaired into collision-free moves; every robot's next position.
+    /// One step from positions `pos`: the `moving` robots' proposed moves toward their `targets`
+    /// (from `proposer`), repaired into collision-free moves; every robot's next position.
     pub fn step(
         &self,
         problem: &NavProblem,
         pos: &[Point],
         targets: &[Point],
         moving: &[usize],
-        optimizer: &dyn Minimizer,
+        proposer: &mut dyn Propose,
         rng: &mut ChaCha8Rng,
     ) -> Vec<Point> {
-        let headings = self.headings(problem, pos, targets, moving, optimizer, rng);
-        self.repair(problem.world(), pos, moving, &headings)
+        let moves = proposer.propose(self, problem, pos, targets, moving, rng);
+        self.repair(problem.world(), pos, moving, &moves)
     }
 
     /// Each robot's target (see the module doc, step 1) and the total distance left.
@@ -191,7 +231,7 @@ impl Navigation {
     }
 
     /// The optimised heading of every moving robot (indexed like `moving`).
-    fn headings(
+    pub fn headings(
         &self,
         problem: &NavProblem,
         pos: &[Point],
@@ -245,41 +285,90 @@ impl Navigation {
     }
 
     /// The committed next position of every robot (see the module doc, step 4).
-    fn repair(&self, w: &World, pos: &[Point], moving: &[usize], headings: &[f64]) -> Vec<Point> {
-        let mut next = pos.to_vec();
-        let mut committed = vec![false; pos.len()];
+    fn repair(&self, w: &World, pos: &[Point], moving: &[usize], moves: &[Point]) -> Vec<Point> {
+        // The farthest two robots can be and still touch this step.
+        let reach = 2.0
+            * w.robots
+                .iter()
+                .map(|r| r.speed + r.radius)
+                .fold(0.0, f64::max);
+        let mut state = Commits {
+            grid: PointGrid::new(pos, w.workspace, reach),
+            reach,
+            next: pos.to_vec(),
+            committed: vec![false; pos.len()],
+            busy: vec![false; pos.len()],
+            proposal: vec![None; pos.len()],
+        };
         for (k, &i) in moving.iter().enumerate() {
-            let r = &w.robots[i];
-            let a = pos[i];
-            let to_goal = dist(a, r.goal);
-            let free = |b: Point| self.free_move(w, i, a, b, pos, &next, &committed);
-            let choice = if self.snap && to_goal <= r.speed && free(r.goal) {
-                Some(r.goal)
-            } else {
-                let base = headings[k];
-                let target = |d: f64| next_position(a, r.speed, base + d);
-                let mut found = None;
-                for step in 0..=36 {
-                    let d = step as f64 * ROTATION_STEP;
-                    let mut options = vec![target(d)];
-                    if step > 0 && step < 36 {
-                        options.push(target(-d));
-                        options.sort_by(|p, q| dist(*p, r.goal).total_cmp(&dist(*q, r.goal)));
-                    }
-                    if let Some(&b) = options.iter().find(|&&b| free(b)) {
-                        found = Some(b);
-                        break;
-                    }
-                }
-                found
-            };
-            next[i] = choice.unwrap_or(a);
-            committed[i] = true;
+            state.proposal[i] = Some(moves[k]);
         }
-        next
+        for &i in moving {
+            self.commit(w, pos, i, &mut state);
+        }
+        state.next
     }
 
-    /// Whether robot `i` may move from `a` to `b` this step.
+    /// Commits robot `i`'s move (see the module doc, step 4): first every robot whose current
+    /// disc its proposed move would sweep into (so a robot following another moves after it,
+    /// into the space it leaves), then the first free rotation of its own proposal.
+    fn commit(&self, w: &World, pos: &[Point], i: usize, st: &mut Commits) {
+        if st.committed[i] || st.busy[i] {
+            return;
+        }
+        let Some(m) = st.proposal[i] else {
+            st.committed[i] = true;
+            return;
+        };
+        st.busy[i] = true;
+        let r = &w.robots[i];
+        let a = pos[i];
+        let near = near_robots(w, pos, &st.grid, st.reach, i);
+        let wanted = if self.snap && dist(a, r.goal) <= r.speed {
+            r.goal
+        } else {
+            [a[0] + m[0], a[1] + m[1]]
+        };
+        for &j in &near {
+            if !st.committed[j] && point_segment(pos[j], a, wanted) < r.radius + w.robots[j].radius
+            {
+                self.commit(w, pos, j, st);
+            }
+        }
+        let free = |b: Point, st: &Commits| {
+            self.free_move(w, i, a, b, pos, &st.next, &st.committed, &near)
+        };
+        let choice = if self.snap && dist(a, r.goal) <= r.speed && free(r.goal, st) {
+            Some(r.goal)
+        } else {
+            // The proposed move, rotated by ±d (its length kept, capped at the speed).
+            let (len, base) = (norm(m).min(r.speed), m[1].atan2(m[0]));
+            let target = |d: f64| next_position(a, len, base + d);
+            let mut found = None;
+            for step in 0..=36 {
+                let d = step as f64 * ROTATION_STEP;
+                let mut options = vec![target(d)];
+                if step > 0 && step < 36 {
+                    options.push(target(-d));
+                    options.sort_by(|p, q| dist(*p, r.goal).total_cmp(&dist(*q, r.goal)));
+                }
+                if let Some(&b) = options.iter().find(|&&b| free(b, st)) {
+                    found = Some(b);
+                    break;
+                }
+                if len == 0.0 {
+                    break;
+                }
+            }
+            found
+        };
+        st.next[i] = choice.unwrap_or(a);
+        st.committed[i] = true;
+        st.busy[i] = false;
+    }
+
+    /// Whether robot `i` may move from `a` to `b` this step (`near`: the robots that can come
+    /// within reach of it this step, the others cannot touch it).
     #[allow(clippy::too_many_arguments)]
     fn free_move(
         &self,
@@ -290,6 +379,7 @@ impl Navigation {
         pos: &[Point],
         next: &[Point],
         committed: &[bool],
+        near: &[usize],
     ) -> bool {
         let r = &w.robots[i];
         if !w.disc_in_workspace(b, r.radius) {
@@ -301,14 +391,39 @@ impl Navigation {
         {
             return false;
         }
-        w.robots.iter().enumerate().all(|(j, q)| {
-            let reach = r.radius + q.radius;
-            j == i
-                || if committed[j] {
-                    closest_approach(a, b, pos[j], next[j]) >= reach
-                } else {
-                    point_segment(pos[j], a, b) >= reach
-                }
+        near.iter().all(|&j| {
+            let reach = r.radius + w.robots[j].radius;
+            if committed[j] {
+                closest_approach(a, b, pos[j], next[j]) >= reach
+            } else {
+                point_segment(pos[j], a, b) >= reach
+            }
         })
     }
+}
+
+/// The repair's bookkeeping: committed next positions, robots being committed (a cycle of
+/// robots following each other falls back to the index order), and proposed moves.
+struct Commits {
+    grid: PointGrid,
+    reach: f64,
+    next: Vec<Point>,
+    committed: Vec<bool>,
+    busy: Vec<bool>,
+    proposal: Vec<Option<Point>>,
+}
+
+/// Robots other than `i` that can come within reach of it in one step: centres closer than both
+/// speeds plus both radii (`grid` holds the current positions in cells of at least that size).
+fn near_robots(w: &World, pos: &[Point], grid: &PointGrid, reach: f64, i: usize) -> Vec<usize> {
+    let r = &w.robots[i];
+    let mut out: Vec<usize> = grid
+        .near(pos[i], reach)
+        .filter(|&j| {
+            let q = &w.robots[j];
+            j != i && dist(pos[i], pos[j]) < r.speed + q.speed + r.radius + q.radius
+        })
+        .collect();
+    out.sort_unstable();
+    out
 }

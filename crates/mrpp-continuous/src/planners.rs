@@ -12,8 +12,9 @@ use mrpp_evo::hbmo::Hbmo;
 use mrpp_evo::pso::Pso;
 use mrpp_evo::space::Minimizer;
 
-use crate::navigate::{Guide, Mode, Navigation};
+use crate::navigate::{Guide, HeadingSearch, Mode, Navigation};
 use crate::objective::{Objective, ObstacleTerm};
+use crate::orca::{Orca, OrcaRun};
 use crate::problem::{NavProblem, Trajectories};
 
 /// The navigation parameters every planner takes, then its own.
@@ -44,7 +45,23 @@ impl Planner<NavProblem> for StepPlanner {
         self.name
     }
     fn plan(&self, p: &NavProblem, ctx: &Ctx) -> Result<Trajectories, Unsolved> {
-        self.nav.run(p, self.optimizer.as_ref(), ctx)
+        self.nav
+            .run(p, &mut HeadingSearch(self.optimizer.as_ref()), ctx)
+    }
+}
+
+/// ORCA inside the same loop ([`crate::orca`]).
+pub struct OrcaPlanner {
+    nav: Navigation,
+    orca: Orca,
+}
+
+impl Planner<NavProblem> for OrcaPlanner {
+    fn name(&self) -> &str {
+        "orca"
+    }
+    fn plan(&self, p: &NavProblem, ctx: &Ctx) -> Result<Trajectories, Unsolved> {
+        self.nav.run(p, &mut OrcaRun::new(self.orca, p), ctx)
     }
 }
 
@@ -249,5 +266,51 @@ pub const PSO_ENTRY: PlannerEntry<NavProblem> = PlannerEntry {
             ..Pso::default()
         };
         planner("pso", p, Box::new(s))
+    },
+};
+
+/// `orca` in the registry.
+pub const ORCA_ENTRY: PlannerEntry<NavProblem> = PlannerEntry {
+    name: "orca",
+    about: "ORCA reciprocal velocity obstacles through dodgy_2d, the RVO2 port (van den Berg et al., ISRR 2009): today's practical baseline",
+    params: nav_params![
+        Param {
+            name: "time_horizon",
+            default: "10",
+            doc: "steps ahead that collisions between robots are avoided"
+        },
+        Param {
+            name: "obstacle_time_horizon",
+            default: "5",
+            doc: "steps ahead that collisions with obstacles are avoided"
+        },
+        Param {
+            name: "neighbours",
+            default: "10",
+            doc: "most neighbours each robot considers"
+        },
+        Param {
+            name: "neighbour_distance",
+            default: "10",
+            doc: "neighbours within this many step lengths"
+        },
+        Param {
+            name: "margin",
+            default: "0.1",
+            doc: "ORCA plans with radii this share larger (keeps its f32 velocities clear of the exact check)",
+        },
+    ],
+    build: |p| {
+        let orca = Orca {
+            time_horizon: p.get_in("time_horizon", 1e-3..=1e6)?,
+            obstacle_time_horizon: p.get_in("obstacle_time_horizon", 1e-3..=1e6)?,
+            neighbours: p.get_in("neighbours", 0..=100_000)?,
+            neighbour_distance: p.get_in("neighbour_distance", 0.0..=1e9)?,
+            margin: p.get_in("margin", 0.0..=10.0)?,
+        };
+        Ok(Box::new(OrcaPlanner {
+            nav: navigation(p)?,
+            orca,
+        }))
     },
 };

@@ -7,7 +7,8 @@
 //!  "robots": [{"start": [20, 20], "goal": [460, 360], "radius": 6, "speed": 16}],
 //!  "epsilon": 1.0, "step_limit": 500, "source": "how the file was made (optional)"}
 //! ```
-//! `workspace` is `[x_min, y_min, x_max, y_max]`; units are the paper's pixels (robot radius 6,
+//! `workspace` is `[x_min, y_min, x_max, y_max]`; an obstacle may repeat its first vertex at the
+//! end (the ring closes itself either way); units are the paper's pixels (robot radius 6,
 //! speeds 4–20 per step). `epsilon` (default 1.0) is the arrival threshold: a robot within it of
 //! its goal stops (the paper's ε); `step_limit` (default 1000) ends a run. Loading checks every
 //! rule below and names the file and the item that breaks it (`robots[2]: start inside
@@ -67,8 +68,14 @@ impl World {
 
     /// Parses and checks world JSON (`path` names it in errors).
     pub fn parse(text: &str, path: &Path) -> Result<World> {
-        let w: World = serde_json::from_str(text)
+        let mut w: World = serde_json::from_str(text)
             .map_err(|e| Error::parse(path, e.line(), format!("not a continuous world: {e}")))?;
+        // A ring written closed (first vertex repeated at the end) is the same polygon.
+        for poly in &mut w.obstacles {
+            if poly.len() > 3 && poly.first() == poly.last() {
+                poly.pop();
+            }
+        }
         w.check().map_err(|msg| Error::invalid(path, msg))?;
         Ok(w)
     }
