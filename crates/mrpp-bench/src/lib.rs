@@ -8,6 +8,7 @@
 pub mod harness;
 pub mod papers;
 pub mod report;
+pub mod stats;
 pub mod sweep;
 
 pub use harness::{Manifest, RunRecord, Shard, Sweep};

@@ -11,6 +11,7 @@ use clap::{Subcommand, ValueEnum};
 use mrpp_bench::Shard;
 use mrpp_bench::papers::ga_formation::{FormationConfig, GaFormation};
 use mrpp_bench::papers::gp_trees::{GpExperimentConfig, GpTable3, GpTable4, GpTable5};
+use mrpp_bench::papers::hbmo_navigation::{HbmoConfig, HbmoNavigation};
 use mrpp_bench::papers::hstar_instances::Scenario2Map;
 use mrpp_bench::papers::hstar_table2::{Table2, Table2Config, table2_methods};
 
@@ -44,6 +45,35 @@ pub enum Experiment {
     /// The GA formation paper's Fig. 4: sequential and GA against the proven optimum on random
     /// configurations over 7 polygon maps.
     GaFormation(GaFormationArgs),
+    /// The HBMO navigation paper's Figs. 5–12: HBMO, DE, PSO and ORCA step by step on seeded
+    /// continuous worlds (steps, ATPT, ATPD, AUTD, Mann–Whitney p-values).
+    Hbmo(HbmoArgs),
+}
+
+#[derive(clap::Args)]
+pub struct HbmoArgs {
+    /// Runs per (world, method); the paper: 5 (use 30 for the significance tests).
+    #[arg(long, default_value_t = 5)]
+    runs: usize,
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Methods (comma-separated registry names).
+    #[arg(long, value_delimiter = ',', default_value = "hbmo,de,pso,orca")]
+    planners: Vec<String>,
+    /// A parameter for every method, e.g. `-p guide=goal` (repeatable).
+    #[arg(short = 'p', long = "param", value_name = "KEY=VALUE")]
+    params: Vec<String>,
+    /// Wall-clock limit per run, in seconds.
+    #[arg(long, default_value_t = 60.0)]
+    time_limit: f64,
+    /// The folder of six-robots-four-obstacles.json.
+    #[arg(long, default_value = "data/continuous")]
+    data: PathBuf,
+    #[arg(long, default_value = "out/hbmo")]
+    out: PathBuf,
+    /// Run only shard i of N (`i/N`); `mrpp bench merge` joins the parts.
+    #[arg(long)]
+    shard: Option<Shard>,
 }
 
 #[derive(clap::Args)]
@@ -212,6 +242,21 @@ pub fn run(cmd: Experiment, merge: Option<Mode>) -> Result<u8, Fail> {
             )
         }
         Experiment::GaFormation(a) => ga_formation(&a, merge),
+        Experiment::Hbmo(a) => {
+            let cfg = HbmoConfig {
+                seed: a.seed,
+                runs: a.runs,
+                planners: a.planners.clone(),
+                params: a
+                    .params
+                    .iter()
+                    .map(|p| mrpp_core::registry::parse_key_value(p))
+                    .collect::<Result<_, _>>()?,
+                time_limit: seconds("time-limit", a.time_limit)?,
+            };
+            let mode = merge.unwrap_or(Mode::run(a.shard, a.out.clone()));
+            drive(&HbmoNavigation::new(cfg, &a.data)?, &mode, a.seed, "runs")
+        }
     }
 }
 

@@ -182,3 +182,57 @@ fn a_deadlock_is_reported_as_such_with_exit_3() {
         "{stdout}{err}"
     );
 }
+
+/// `mrpp experiment hbmo` on a small slice: its page, tables and pictures, and the same
+/// trajectories and metrics with 1 and with 2 threads.
+#[test]
+fn hbmo_experiment_writes_its_page_and_ignores_the_thread_count() {
+    let mut csvs = Vec::new();
+    for threads in ["1", "2"] {
+        let out = tmp(&format!("hbmo-{threads}"));
+        let o = Command::new(env!("CARGO_BIN_EXE_mrpp"))
+            .args([
+                "experiment",
+                "hbmo",
+                "--runs",
+                "2",
+                "--planners",
+                "de,orca",
+                "--out",
+                out.to_str().unwrap(),
+            ])
+            .env("RAYON_NUM_THREADS", threads)
+            .current_dir(root())
+            .output()
+            .unwrap();
+        let stdout = String::from_utf8_lossy(&o.stdout);
+        assert!(
+            o.status.success(),
+            "{stdout}{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        assert!(
+            stdout.contains("| de | 2/2 |") && stdout.contains("paper steps"),
+            "{stdout}"
+        );
+        for f in [
+            "hbmo.md",
+            "fig5-6-autd.svg",
+            "fig7-11-metrics.svg",
+            "fig12-de.svg",
+            "fig12-orca.svg",
+            "manifest.json",
+        ] {
+            assert!(out.join(f).exists(), "{f}");
+        }
+        let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+        // 16 worlds x 2 methods x 2 runs, without the machine-dependent runtime column.
+        assert_eq!(csv.lines().count(), 1 + 16 * 2 * 2, "{csv}");
+        let stable: Vec<String> = csv
+            .lines()
+            .map(|l| l.rsplit_once(',').unwrap().0.to_string())
+            .collect();
+        csvs.push(stable);
+    }
+    assert_eq!(csvs[0], csvs[1]);
+}

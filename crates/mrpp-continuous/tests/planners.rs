@@ -46,3 +46,39 @@ fn same_seed_same_trajectories() {
         }
     }
 }
+
+/// The long check (`cargo test --release -p mrpp-continuous -- --ignored`): 1000 generated
+/// episodes per planner (2–10 robots, 2–10 obstacles, seed = episode), zero invalid plans, every
+/// failure to arrive a deadlock or the step limit; prints the tally.
+#[test]
+#[ignore]
+fn a_thousand_episodes_per_planner_without_a_collision() {
+    for entry in PLANNERS {
+        let planner = entry.instantiate(&[]).unwrap();
+        let (mut arrived, mut deadlock, mut limit) = (0, 0, 0);
+        for episode in 0..1000u64 {
+            let robots = 2 + (episode % 9) as usize;
+            let obstacles = 2 + (episode / 9 % 9) as usize;
+            let Some(world) = random_world(robots, obstacles, episode) else {
+                continue;
+            };
+            let p = NavProblem::new(world);
+            match solve(planner.as_ref(), &p, &Ctx::new(episode, Deadline::none())) {
+                Ok(_) => arrived += 1,
+                Err(Unsolved::GaveUp(why)) if why.starts_with("deadlock") => deadlock += 1,
+                Err(Unsolved::GaveUp(why)) if why.starts_with("step limit") => limit += 1,
+                Err(other) => panic!("{} episode {episode}: {other}", entry.name),
+            }
+        }
+        println!(
+            "{}: {arrived} arrived, {deadlock} deadlocks, {limit} step limits, 0 invalid",
+            entry.name
+        );
+        assert_eq!(
+            arrived + deadlock + limit,
+            1000,
+            "{}: every world generated",
+            entry.name
+        );
+    }
+}
