@@ -417,10 +417,15 @@ fn panel_table(planners: &[String], rows: &[&NavRow], panel: &str, x_name: &str)
                 .filter(|r| r.panel == panel && r.x == x && &r.planner == p)
                 .count();
             let m = |f: &dyn Fn(&NavRow) -> Option<f64>| {
-                mean_sd(&a.iter().filter_map(|r| f(r)).collect::<Vec<_>>()).0
+                let v: Vec<f64> = a.iter().filter_map(|r| f(r)).collect();
+                if v.is_empty() {
+                    "—".to_string()
+                } else {
+                    format!("{:.1}", mean_sd(&v).0)
+                }
             };
             s.push_str(&format!(
-                "| {x} | {p} | {}/{all} | {:.1} | {:.1} | {:.1} | {:.1} |\n",
+                "| {x} | {p} | {}/{all} | {} | {} | {} | {} |\n",
                 a.len(),
                 m(&|r| r.steps.map(|s| s as f64)),
                 m(&|r| r.atpt),
