@@ -82,3 +82,71 @@ fn a_thousand_episodes_per_planner_without_a_collision() {
         );
     }
 }
+
+/// baselines §6's per-step tests, for every optimiser: one robot from (0, 0) to (10, 0) with
+/// v = 1 heads at θ ≈ 0; a head-on pair 2 apart keeps its next positions at least 2r apart.
+#[test]
+fn per_step_tests_of_every_optimiser() {
+    use mrpp_continuous::navigate::{Guide, Navigation};
+    use mrpp_continuous::objective::next_position;
+    use mrpp_continuous::{Robot, World};
+    use mrpp_evo::space::Minimizer;
+    use rand::SeedableRng;
+    let world = |robots: Vec<Robot>| {
+        NavProblem::new(World {
+            workspace: [-50.0, -50.0, 50.0, 50.0],
+            obstacles: vec![],
+            robots,
+            epsilon: 0.1,
+            step_limit: 100,
+            source: None,
+        })
+    };
+    let robot = |start: [f64; 2], goal: [f64; 2]| Robot {
+        start,
+        goal,
+        radius: 0.5,
+        speed: 1.0,
+    };
+    let nav = Navigation {
+        guide: Guide::Goal,
+        ..Navigation::default()
+    };
+    let optimisers: [Box<dyn Minimizer>; 3] = [
+        Box::new(mrpp_evo::hbmo::Hbmo::default()),
+        Box::new(mrpp_evo::de::De::default()),
+        Box::new(mrpp_evo::pso::Pso::default()),
+    ];
+    for opt in &optimisers {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(1);
+        let one = world(vec![robot([0.0, 0.0], [10.0, 0.0])]);
+        let theta = nav.headings(
+            &one,
+            &[[0.0, 0.0]],
+            &[[10.0, 0.0]],
+            &[0],
+            opt.as_ref(),
+            &mut rng,
+        );
+        assert!(theta[0].abs() < 0.01, "{}: θ = {}", opt.name(), theta[0]);
+        let pair = world(vec![
+            robot([0.0, 0.0], [10.0, 0.0]),
+            robot([2.0, 0.0], [-8.0, 0.0]),
+        ]);
+        let pos = [[0.0, 0.0], [2.0, 0.0]];
+        let t = nav.headings(
+            &pair,
+            &pos,
+            &[[10.0, 0.0], [-8.0, 0.0]],
+            &[0, 1],
+            opt.as_ref(),
+            &mut rng,
+        );
+        let (a, b) = (
+            next_position(pos[0], 1.0, t[0]),
+            next_position(pos[1], 1.0, t[1]),
+        );
+        let d = ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2)).sqrt();
+        assert!(d >= 0.99, "{}: next positions {d} apart", opt.name());
+    }
+}
