@@ -192,7 +192,11 @@ impl PointGrid {
     /// Buckets `points` (all inside `bounds` = `[x_min, y_min, x_max, y_max]`) in cells of side
     /// `cell` (> 0).
     pub fn new(points: &[Point], bounds: [f64; 4], cell: f64) -> Self {
-        let cell = cell.max(1e-9);
+        // At most about four cells per point: a huge workspace gets coarser cells, not more.
+        let area = (bounds[2] - bounds[0]) * (bounds[3] - bounds[1]);
+        let cell = cell
+            .max((area / (4.0 * points.len().max(1) as f64)).sqrt())
+            .max(1e-9);
         let cols = (((bounds[2] - bounds[0]) / cell).ceil() as usize).clamp(1, 4096);
         let rows = (((bounds[3] - bounds[1]) / cell).ceil() as usize).clamp(1, 4096);
         let mut g = PointGrid {

@@ -1,13 +1,16 @@
 //! The ideal path of one robot, against which the HBMO paper measures path deviation (ATPD, §5.1):
-//! the shortest path of a disc of radius `r` from its start to its goal that keeps `r + δ` from
-//! every obstacle (the paper's threshold δ is one pixel) and stays in the workspace.
+//! the shortest path of a disc of radius `r` from its start to its goal that stays in the workspace
+//! and clear of obstacles, passing corners at `r + δ` (the paper's threshold δ is one pixel).
 //!
 //! Computed on a visibility graph: besides start and goal, every convex obstacle corner carries
 //! [`CORNER_SAMPLES`] points on a circle around it, of radius `(r + δ) / cos(π / k)`, so that the
 //! chords between neighbouring points keep `r + δ` from the corner (the polygon circumscribes the
 //! clearance arc); two nodes are joined when the segment between them keeps `r` from every obstacle
-//! and the disc stays in the workspace. The result overestimates the exact shortest path only on its
-//! arcs, by at most `tan(π/k)/(π/k) − 1` of their length (about 2.6% for k = 8).
+//! (straight stretches may pass at `r`, like the robots) and the disc stays in the workspace. The
+//! result overestimates the shortest path keeping `r` only around corners: by at most
+//! `tan(π/k)/(π/k) − 1` of the arcs (about 2.6% for k = 8) plus the δ detour; and since a robot
+//! stops within ε of its goal, a plan can come out slightly shorter than its ideal path (a small
+//! negative deviation).
 
 use crate::geometry::{Point, cross, dist, segment_polygon, sub};
 use crate::world::World;

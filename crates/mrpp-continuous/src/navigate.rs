@@ -164,8 +164,21 @@ impl Navigation {
             } else {
                 since += 1;
                 if since >= self.deadlock_steps {
+                    let lost: Vec<String> = moving
+                        .iter()
+                        .filter(|&&i| problem.ideal_paths()[i].is_none())
+                        .map(|i| i.to_string())
+                        .collect();
+                    let hint = if lost.is_empty() {
+                        String::new()
+                    } else {
+                        format!(
+                            "; no clear ideal path to the goal of robot(s) {}",
+                            lost.join(", ")
+                        )
+                    };
                     return Err(Unsolved::GaveUp(format!(
-                        "deadlock: no progress toward the goals for {since} steps ({} robots short)",
+                        "deadlock: no progress toward the goals for {since} steps ({} of {n} robots short{hint})",
                         moving.len()
                     )));
                 }

@@ -33,6 +33,18 @@ macro_rules! nav_params {
     };
 }
 
+/// The loop parameters ORCA takes (it has no objective and no heading mode), then its own.
+macro_rules! loop_params {
+    ($($own:expr),* $(,)?) => {
+        &[
+            Param { name: "guide", default: "waypoints", doc: "waypoints (aim at the farthest visible point of the ideal path) or goal" },
+            Param { name: "deadlock_steps", default: "50", doc: "steps without progress reported as a deadlock" },
+            Param { name: "snap", default: "true", doc: "aim exactly at the goal when within one step of it" },
+            $($own),*
+        ]
+    };
+}
+
 /// The per-step planner around one optimiser.
 pub struct StepPlanner {
     name: &'static str,
@@ -63,6 +75,16 @@ impl Planner<NavProblem> for OrcaPlanner {
     fn plan(&self, p: &NavProblem, ctx: &Ctx) -> Result<Trajectories, Unsolved> {
         self.nav.run(p, &mut OrcaRun::new(self.orca, p), ctx)
     }
+}
+
+/// The loop settings from ORCA's parameters (no objective, no heading mode).
+fn loop_navigation(p: &Params) -> mrpp_core::error::Result<Navigation> {
+    Ok(Navigation {
+        guide: [Guide::Waypoints, Guide::Goal][p.choice("guide", &["waypoints", "goal"])?],
+        deadlock_steps: p.get_in("deadlock_steps", 1..=1_000_000)?,
+        snap: p.get("snap")?,
+        ..Navigation::default()
+    })
 }
 
 /// The navigation settings from a planner's parameters.
@@ -178,6 +200,12 @@ pub const HBMO_ENTRY: PlannerEntry<NavProblem> = PlannerEntry {
             local_steps: p.get_in("local_steps", 0..=1_000_000)?,
             ..Hbmo::default()
         };
+        if h.speed_min >= h.speed_max {
+            return Err(mrpp_core::error::Error::Param(format!(
+                "hbmo: speed_min ({}) must be below speed_max ({}), or no mating flight happens",
+                h.speed_min, h.speed_max
+            )));
+        }
         planner("hbmo", p, Box::new(h))
     },
 };
@@ -273,7 +301,7 @@ pub const PSO_ENTRY: PlannerEntry<NavProblem> = PlannerEntry {
 pub const ORCA_ENTRY: PlannerEntry<NavProblem> = PlannerEntry {
     name: "orca",
     about: "ORCA reciprocal velocity obstacles through dodgy_2d, the RVO2 port (van den Berg et al., ISRR 2009): today's practical baseline",
-    params: nav_params![
+    params: loop_params![
         Param {
             name: "time_horizon",
             default: "10",
@@ -309,7 +337,7 @@ pub const ORCA_ENTRY: PlannerEntry<NavProblem> = PlannerEntry {
             margin: p.get_in("margin", 0.0..=10.0)?,
         };
         Ok(Box::new(OrcaPlanner {
-            nav: navigation(p)?,
+            nav: loop_navigation(p)?,
             orca,
         }))
     },

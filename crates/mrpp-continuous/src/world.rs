@@ -56,6 +56,10 @@ fn default_step_limit() -> usize {
     1000
 }
 
+/// The largest absolute coordinate, radius, speed or epsilon a world may hold (beyond it f32
+/// libraries such as ORCA's and the spatial grids lose meaning).
+pub const MAX_COORDINATE: f64 = 1e7;
+
 /// Most steps a world may ask for.
 pub const MAX_STEP_LIMIT: usize = 1_000_000;
 
@@ -83,11 +87,16 @@ impl World {
     /// The first rule the world breaks, as `item: rule`.
     pub fn check(&self) -> std::result::Result<(), String> {
         let [x0, y0, x1, y1] = self.workspace;
-        if !self.workspace.iter().all(|v| v.is_finite()) || x0 >= x1 || y0 >= y1 {
-            return Err("workspace: must be [x_min, y_min, x_max, y_max] with min < max".into());
+        if !self.workspace.iter().all(|v| v.abs() <= MAX_COORDINATE) || x0 >= x1 || y0 >= y1 {
+            return Err(format!(
+                "workspace: must be [x_min, y_min, x_max, y_max] with min < max and |values| <= {MAX_COORDINATE:e}"
+            ));
         }
-        if !(self.epsilon.is_finite() && self.epsilon > 0.0) {
-            return Err(format!("epsilon: must be > 0, got {}", self.epsilon));
+        if !(self.epsilon > 0.0 && self.epsilon <= MAX_COORDINATE) {
+            return Err(format!(
+                "epsilon: must be > 0 and at most {MAX_COORDINATE:e}, got {:e}",
+                self.epsilon
+            ));
         }
         if self.step_limit == 0 || self.step_limit > MAX_STEP_LIMIT {
             return Err(format!(
@@ -103,8 +112,14 @@ impl World {
                     poly.len()
                 ));
             }
-            if poly.iter().flatten().any(|v| !v.is_finite()) {
-                return Err(format!("{item}: coordinates must be finite numbers"));
+            if poly
+                .iter()
+                .flatten()
+                .any(|v| v.abs() > MAX_COORDINATE || v.is_nan())
+            {
+                return Err(format!(
+                    "{item}: coordinates must be numbers of at most {MAX_COORDINATE:e}"
+                ));
             }
             if self_intersects(poly) {
                 return Err(format!("{item}: edges cross each other"));
@@ -135,11 +150,17 @@ impl World {
 
     fn check_robot(&self, i: usize, r: &Robot) -> std::result::Result<(), String> {
         let item = format!("robots[{i}]");
-        if !(r.radius.is_finite() && r.radius > 0.0) {
-            return Err(format!("{item}: radius must be > 0, got {}", r.radius));
+        if !(r.radius > 0.0 && r.radius <= MAX_COORDINATE) {
+            return Err(format!(
+                "{item}: radius must be > 0 and at most {MAX_COORDINATE:e}, got {:e}",
+                r.radius
+            ));
         }
-        if !(r.speed.is_finite() && r.speed > 0.0) {
-            return Err(format!("{item}: speed must be > 0, got {}", r.speed));
+        if !(r.speed > 0.0 && r.speed <= MAX_COORDINATE) {
+            return Err(format!(
+                "{item}: speed must be > 0 and at most {MAX_COORDINATE:e}, got {:e}",
+                r.speed
+            ));
         }
         for (what, p) in [("start", r.start), ("goal", r.goal)] {
             if !p.iter().all(|v| v.is_finite()) {

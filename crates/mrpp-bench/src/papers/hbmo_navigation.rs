@@ -119,7 +119,10 @@ impl HbmoNavigation {
                 cfg.runs
             )));
         }
-        for p in &cfg.planners {
+        for (k, p) in cfg.planners.iter().enumerate() {
+            if cfg.planners[..k].contains(p) {
+                return Err(Error::Param(format!("planner `{p}` is named twice")));
+            }
             let entry = mrpp_core::registry::find(PLANNERS, p).ok_or_else(|| {
                 Error::Param(format!(
                     "`{p}` is not a continuous planner (hbmo, de, pso, orca)"
@@ -372,6 +375,18 @@ fn fig12_table(planners: &[String], rows: &[&NavRow]) -> String {
     for p in planners {
         let st = get(p, &steps);
         let (sm, ssd) = mean_sd(&st);
+        let fmt = |v: Vec<f64>| {
+            if v.is_empty() {
+                "—".to_string()
+            } else {
+                format!("{:.1}", mean_sd(&v).0)
+            }
+        };
+        let steps_text = if st.is_empty() {
+            "—".to_string()
+        } else {
+            format!("{sm:.1} ± {ssd:.1}")
+        };
         let paper = PAPER_STEPS
             .iter()
             .find(|(n, _)| n == p)
@@ -384,12 +399,12 @@ fn fig12_table(planners: &[String], rows: &[&NavRow]) -> String {
             }
         };
         s.push_str(&format!(
-            "| {p} | {}/{} | {sm:.1} ± {ssd:.1} | {paper} | {:.1} | {:.1} | {:.1} | {} | {} |\n",
+            "| {p} | {}/{} | {steps_text} | {paper} | {} | {} | {} | {} | {} |\n",
             st.len(),
             runs(p),
-            mean_sd(&get(p, &|r| r.atpt)).0,
-            mean_sd(&get(p, &|r| r.atpd)).0,
-            mean_sd(&get(p, &|r| r.autd)).0,
+            fmt(get(p, &|r| r.atpt)),
+            fmt(get(p, &|r| r.atpd)),
+            fmt(get(p, &|r| r.autd)),
             pv(&steps),
             pv(&|r| r.atpt),
         ));
