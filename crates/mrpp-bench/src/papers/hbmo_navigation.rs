@@ -5,7 +5,7 @@
 //! panel's key, robots of radius 6, all at one speed):
 //! - `fig12`: the bundled 6-robot / 4-obstacle world (`six-robots-four-obstacles.json`): steps to
 //!   arrival, ATPT, ATPD, AUTD per method, with Mann–Whitney p-values of HBMO against each other
-//!   method (the paper: HBMO 35, DE 37, PSO 38 steps, one run shown);
+//!   method (so do the sweeps' tables, per world) (the paper: HBMO 35, DE 37, PSO 38 steps, one run shown);
 //! - `robots`: 2, 4, 6, 8, 10 robots among 4 obstacles at speed 16 (Figs. 6, 9–11: AUTD per step,
 //!   ATPT, ATPD, AUTD against the robot count);
 //! - `obstacles`: 2, 4, 6, 8, 10 obstacles with 6 robots at speed 16 (Fig. 7b: ATPD against the
@@ -422,7 +422,7 @@ fn panel_table(planners: &[String], rows: &[&NavRow], panel: &str, x_name: &str)
     xs.sort_by(f64::total_cmp);
     xs.dedup();
     let mut s = format!(
-        "| {x_name} | method | arrived | steps | ATPT | ATPD | AUTD |\n|---|---|---|---|---|---|---|\n"
+        "| {x_name} | method | arrived | steps | ATPT | ATPD | AUTD | p (steps, HBMO vs) | p (ATPT, HBMO vs) |\n|---|---|---|---|---|---|---|---|---|\n"
     );
     for x in xs {
         for p in planners {
@@ -439,13 +439,29 @@ fn panel_table(planners: &[String], rows: &[&NavRow], panel: &str, x_name: &str)
                     format!("{:.1}", mean_sd(&v).0)
                 }
             };
+            let values = |q: &str, f: &dyn Fn(&NavRow) -> Option<f64>| -> Vec<f64> {
+                arrived(rows, panel, x, q)
+                    .iter()
+                    .filter_map(|r| f(r))
+                    .collect()
+            };
+            let pv = |f: &dyn Fn(&NavRow) -> Option<f64>| {
+                if p == "hbmo" || !planners.iter().any(|q| q == "hbmo") {
+                    "—".to_string()
+                } else {
+                    format!("{:.3}", mann_whitney(&values("hbmo", f), &values(p, f)).1)
+                }
+            };
+            let steps = |r: &NavRow| r.steps.map(|s| s as f64);
             s.push_str(&format!(
-                "| {x} | {p} | {}/{all} | {} | {} | {} | {} |\n",
+                "| {x} | {p} | {}/{all} | {} | {} | {} | {} | {} | {} |\n",
                 a.len(),
-                m(&|r| r.steps.map(|s| s as f64)),
+                m(&steps),
                 m(&|r| r.atpt),
                 m(&|r| r.atpd),
-                m(&|r| r.autd)
+                m(&|r| r.autd),
+                pv(&steps),
+                pv(&|r| r.atpt)
             ));
         }
     }
