@@ -1,6 +1,6 @@
 //! mrpp-grid: the grid MAPF family. MovingAI `.map`/`.scen` and the H* paper's map and robot
 //! files become a [`MapfProblem`] with `stay` rules; the planners (H*, CA*/HCA*/WHCA*, Enol2023,
-//! NSGA-III) work on any graph with cell coordinates. [`PLANNERS`] is the family's registry;
+//! NSGA-III, PIBT) work on any graph with cell coordinates. [`PLANNERS`] is the family's registry;
 //! [`io`] holds the LaCAM text result, the SVG picture and the grid plan file.
 
 pub mod coevolution;
@@ -10,6 +10,7 @@ pub mod hstar;
 pub mod io;
 pub mod map;
 pub mod nsga3;
+pub mod pibt;
 pub mod scen;
 
 use std::path::Path;
@@ -29,6 +30,7 @@ pub static PLANNERS: &[PlannerEntry<MapfProblem>] = &[
     cooperative::WHCA_ENTRY,
     coevolution::ENTRY,
     nsga3::ENTRY,
+    pibt::ENTRY,
 ];
 
 /// A grid problem: `map` with the agents of `scen` (the first `agents` of them; all when
