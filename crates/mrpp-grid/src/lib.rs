@@ -8,6 +8,7 @@ pub mod cooperative;
 pub mod corridors;
 pub mod hstar;
 pub mod io;
+pub mod lacam;
 pub mod map;
 pub mod nsga3;
 pub mod pibt;
@@ -31,6 +32,7 @@ pub static PLANNERS: &[PlannerEntry<MapfProblem>] = &[
     coevolution::ENTRY,
     nsga3::ENTRY,
     pibt::ENTRY,
+    lacam::ENTRY,
 ];
 
 /// A grid problem: `map` with the agents of `scen` (the first `agents` of them; all when

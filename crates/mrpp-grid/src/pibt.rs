@@ -47,24 +47,25 @@ pub struct Pibt {
 }
 
 /// No agent.
-const NIL: usize = usize::MAX;
+pub(crate) const NIL: usize = usize::MAX;
 
-/// One PIBT step's state.
-struct Step<'a> {
-    problem: &'a MapfProblem,
-    dist: &'a [Vec<u32>],
-    now: &'a [VertexId],
-    next: Vec<VertexId>,
+/// One PIBT step's state (also LaCAM's configuration generator, [`crate::lacam`]).
+pub(crate) struct Step<'a> {
+    pub(crate) problem: &'a MapfProblem,
+    pub(crate) dist: &'a [Vec<u32>],
+    pub(crate) now: &'a [VertexId],
+    /// Each agent's next vertex (`VertexId::MAX`: not chosen yet).
+    pub(crate) next: Vec<VertexId>,
     /// Per vertex: the agent on it now, and the agent that will be on it next.
-    occupied_now: &'a [usize],
-    occupied_next: Vec<usize>,
-    rng: &'a mut ChaCha8Rng,
+    pub(crate) occupied_now: &'a [usize],
+    pub(crate) occupied_next: Vec<usize>,
+    pub(crate) rng: &'a mut ChaCha8Rng,
 }
 
 impl Step<'_> {
     /// PIBT(i): gives agent `i` its next vertex; false when it has to stay where it is because
     /// every candidate was taken.
-    fn assign(&mut self, i: usize) -> bool {
+    pub(crate) fn assign(&mut self, i: usize) -> bool {
         let g = self.problem.graph();
         let here = self.now[i];
         let mut cands: Vec<VertexId> = std::iter::once(here)
