@@ -136,6 +136,8 @@ fn place_robots(world: &World, n: usize, rng: &mut ChaCha8Rng) -> Option<Vec<Rob
                 .iter()
                 .all(|q| dist(if goal { q.goal } else { q.start }, p) >= 3.0 * r)
     };
+    // The visibility-graph nodes depend only on the obstacles and the radius.
+    let nodes = corner_nodes(world, r);
     let draw = |rng: &mut ChaCha8Rng| [rng.random_range(x0..x1), rng.random_range(y0..y1)];
     for _ in 0..n {
         let mut placed = false;
@@ -144,7 +146,6 @@ fn place_robots(world: &World, n: usize, rng: &mut ChaCha8Rng) -> Option<Vec<Rob
             if dist(s, g) < diag / 3.0 || !free(s, &out, false) || !free(g, &out, true) {
                 continue;
             }
-            let nodes = corner_nodes(world, r);
             if ideal_length(world, &nodes, s, g, r).is_none() {
                 continue;
             }

@@ -337,7 +337,9 @@ impl Navigation {
         let r = &w.robots[i];
         let a = pos[i];
         let near = near_robots(w, pos, &st.grid, st.reach, i);
-        let wanted = if self.snap && dist(a, r.goal) <= r.speed {
+        // Final approach: within one step of the goal, aim exactly at it.
+        let snap = self.snap && dist(a, r.goal) <= r.speed;
+        let wanted = if snap {
             r.goal
         } else {
             [a[0] + m[0], a[1] + m[1]]
@@ -351,7 +353,7 @@ impl Navigation {
         let free = |b: Point, st: &Commits| {
             self.free_move(w, i, a, b, pos, &st.next, &st.committed, &near)
         };
-        let choice = if self.snap && dist(a, r.goal) <= r.speed && free(r.goal, st) {
+        let choice = if snap && free(r.goal, st) {
             Some(r.goal)
         } else {
             // The proposed move, rotated by ±d (its length kept, capped at the speed).

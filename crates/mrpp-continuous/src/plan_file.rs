@@ -71,12 +71,7 @@ pub fn read_continuous_plan(
     path: &Path,
 ) -> Result<(Trajectories, Envelope<Point>)> {
     let env: Envelope<Point> = Envelope::parse(text, path)?;
-    if !env.solved {
-        return Err(Error::invalid(
-            path,
-            "the file says solved=false: it holds no plan to validate",
-        ));
-    }
+    env.require_solved(path)?;
     if env.agents.len() != p.world().robots.len() {
         return Err(Error::invalid(
             path,

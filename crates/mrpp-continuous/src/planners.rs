@@ -17,15 +17,11 @@ use crate::objective::{Objective, ObstacleTerm};
 use crate::orca::{Orca, OrcaRun};
 use crate::problem::{NavProblem, Trajectories};
 
-/// The navigation parameters every planner takes, then its own.
-macro_rules! nav_params {
+/// The loop's parameters (every planner, ORCA included), then the planner's own.
+macro_rules! loop_params {
     ($($own:expr),* $(,)?) => {
         &[
-            Param { name: "mode", default: "joint", doc: "joint (one optimisation of all headings, the paper's text) or per-robot (the pseudo-code's loop)" },
             Param { name: "guide", default: "waypoints", doc: "waypoints (aim at the farthest visible point of the ideal path; beyond the paper) or goal (the paper)" },
-            Param { name: "obstacle_term", default: "near", doc: "near (f_st/d within a diameter of obstacles) or inverse (f_st/d everywhere, the paper literally)" },
-            Param { name: "f_dp", default: "100", doc: "weight of overlapping robots in the objective (paper 100)" },
-            Param { name: "f_st", default: "5000", doc: "weight of closeness to obstacles in the objective (paper 5000)" },
             Param { name: "deadlock_steps", default: "50", doc: "steps without progress reported as a deadlock" },
             Param { name: "snap", default: "true", doc: "aim exactly at the goal when within one step of it" },
             $($own),*
@@ -33,13 +29,14 @@ macro_rules! nav_params {
     };
 }
 
-/// The loop parameters ORCA takes (it has no objective and no heading mode), then its own.
-macro_rules! loop_params {
+/// The heading optimisers' parameters: the loop's, the mode and the objective's, then their own.
+macro_rules! nav_params {
     ($($own:expr),* $(,)?) => {
-        &[
-            Param { name: "guide", default: "waypoints", doc: "waypoints (aim at the farthest visible point of the ideal path) or goal" },
-            Param { name: "deadlock_steps", default: "50", doc: "steps without progress reported as a deadlock" },
-            Param { name: "snap", default: "true", doc: "aim exactly at the goal when within one step of it" },
+        loop_params![
+            Param { name: "mode", default: "joint", doc: "joint (one optimisation of all headings, the paper's text) or per-robot (the pseudo-code's loop)" },
+            Param { name: "obstacle_term", default: "near", doc: "near (f_st/d within a diameter of obstacles) or inverse (f_st/d everywhere, the paper literally)" },
+            Param { name: "f_dp", default: "100", doc: "weight of overlapping robots in the objective (paper 100)" },
+            Param { name: "f_st", default: "5000", doc: "weight of closeness to obstacles in the objective (paper 5000)" },
             $($own),*
         ]
     };
@@ -87,22 +84,19 @@ fn loop_navigation(p: &Params) -> mrpp_core::error::Result<Navigation> {
     })
 }
 
-/// The navigation settings from a planner's parameters.
+/// The navigation settings from a planner's parameters (the loop's, then mode and objective).
 fn navigation(p: &Params) -> mrpp_core::error::Result<Navigation> {
     let mode = [Mode::Joint, Mode::PerRobot][p.choice("mode", &["joint", "per-robot"])?];
-    let guide = [Guide::Waypoints, Guide::Goal][p.choice("guide", &["waypoints", "goal"])?];
     let obstacle = [ObstacleTerm::Near, ObstacleTerm::Inverse]
         [p.choice("obstacle_term", &["near", "inverse"])?];
     Ok(Navigation {
         mode,
-        guide,
         objective: Objective {
             f_dp: p.get_in("f_dp", 0.0..=1e12)?,
             f_st: p.get_in("f_st", 0.0..=1e12)?,
             obstacle,
         },
-        deadlock_steps: p.get_in("deadlock_steps", 1..=1_000_000)?,
-        snap: p.get("snap")?,
+        ..loop_navigation(p)?
     })
 }
 

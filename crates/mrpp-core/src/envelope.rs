@@ -126,6 +126,18 @@ impl<E: Serialize + DeserializeOwned> Envelope<E> {
         Ok(env)
     }
 
+    /// An error naming `path` unless the file holds a plan (`solved: true`).
+    pub fn require_solved(&self, path: &Path) -> Result<()> {
+        if self.solved {
+            Ok(())
+        } else {
+            Err(Error::invalid(
+                path,
+                "the file says solved=false: it holds no plan to validate",
+            ))
+        }
+    }
+
     /// The metrics the file claims that differ from `actual` ([`disputed`]).
     pub fn disputed_metrics(&self, actual: &Value) -> Vec<(String, Value, Value)> {
         disputed(&self.metrics, actual)

@@ -34,7 +34,7 @@ pub fn dijkstra(
     banned: &[bool],
     weight: &dyn Fn(u32, u32, u32) -> f64,
 ) -> Option<(Vec<u32>, f64)> {
-    let (dist, prev) = search(r, from, Some(to), banned, weight);
+    let (dist, prev) = search(r, from, to, banned, weight);
     if !dist[to as usize].is_finite() {
         return None;
     }
@@ -46,18 +46,11 @@ pub fn dijkstra(
     Some((path, dist[to as usize]))
 }
 
-/// The shortest length from `from` to every vertex (infinite where unreachable).
-pub fn distances(r: &Roadmap, from: u32) -> Vec<f64> {
-    let len = |e: u32, _: u32, _: u32| r.edges[e as usize].length;
-    search(r, from, None, &[], &len).0
-}
-
-/// Dijkstra from `from` until `to` is settled (or everything, with `None`): distances and
-/// predecessors.
+/// Dijkstra from `from` until `to` is settled: distances and predecessors.
 fn search(
     r: &Roadmap,
     from: u32,
-    to: Option<u32>,
+    to: u32,
     banned: &[bool],
     weight: &dyn Fn(u32, u32, u32) -> f64,
 ) -> (Vec<f64>, Vec<u32>) {
@@ -71,7 +64,7 @@ fn search(
         if d > dist[u as usize] {
             continue;
         }
-        if Some(u) == to {
+        if u == to {
             break;
         }
         for &(v, e) in r.neighbors(u) {

@@ -201,17 +201,6 @@ impl FormationProblem {
     /// The timing of `paths` (any number of them, e.g. part of a plan) under the paper's rules,
     /// or the first rule they break.
     pub fn evaluate(&self, paths: &[Vec<u32>]) -> Result<Evaluation, FormationViolation> {
-        self.evaluate_with_floor(paths, &[])
-    }
-
-    /// [`FormationProblem::evaluate`] with at least `floor[e]` robots counted on edge `e` (edges
-    /// beyond the slice: no floor). A lower bound for every completion of `paths` in which edge
-    /// `e` carries at least `floor[e]` robots (costs never fall as counts grow).
-    pub fn evaluate_with_floor(
-        &self,
-        paths: &[Vec<u32>],
-        floor: &[usize],
-    ) -> Result<Evaluation, FormationViolation> {
         let edges = self.path_edges(paths)?;
         // Directed use of each edge: (robots u→v, robots v→u, first robot of each).
         let mut usage: FxHashMap<u32, (usize, usize, usize, usize)> = FxHashMap::default();
@@ -237,7 +226,7 @@ impl FormationProblem {
                 }
             }
         }
-        let times = self.event_times(paths, &edges, &usage, floor)?;
+        let times = self.event_times(paths, &edges, &usage)?;
         let per_robot: Vec<f64> = paths
             .iter()
             .zip(&edges)
@@ -245,8 +234,7 @@ impl FormationProblem {
                 None => 0.0,
                 Some(&(e, _)) => {
                     let pred = p[p.len() - 2];
-                    let n = (usage[&e].0 + usage[&e].1)
-                        .max(floor.get(e as usize).copied().unwrap_or(0));
+                    let n = usage[&e].0 + usage[&e].1;
                     times[&pred] + self.edge_cost(e, n)
                 }
             })
@@ -296,14 +284,12 @@ impl FormationProblem {
         paths: &[Vec<u32>],
         edges: &[Vec<(u32, bool)>],
         usage: &FxHashMap<u32, (usize, usize, usize, usize)>,
-        floor: &[usize],
     ) -> Result<FxHashMap<u32, f64>, FormationViolation> {
         // The union graph: distinct arcs a→b with their group cost.
         let mut arcs: FxHashMap<(u32, u32), f64> = FxHashMap::default();
         for (p, es) in paths.iter().zip(edges) {
             for (w, &(e, _)) in p.windows(2).zip(es) {
-                let n =
-                    (usage[&e].0 + usage[&e].1).max(floor.get(e as usize).copied().unwrap_or(0));
+                let n = usage[&e].0 + usage[&e].1;
                 arcs.insert((w[0], w[1]), self.edge_cost(e, n));
             }
         }

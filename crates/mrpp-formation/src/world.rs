@@ -194,12 +194,7 @@ pub fn read_formation_plan(
     path: &Path,
 ) -> Result<(FormationPlan, Envelope<u32>)> {
     let env: Envelope<u32> = Envelope::parse(text, path)?;
-    if !env.solved {
-        return Err(Error::invalid(
-            path,
-            "the file says solved=false: it holds no plan to validate",
-        ));
-    }
+    env.require_solved(path)?;
     let n = f.problem.roadmap().num_vertices() as u32;
     if let Some((i, v)) = env
         .agents

@@ -104,12 +104,7 @@ pub fn mapf_plan<E: Serialize + DeserializeOwned>(
     label: impl Fn(&E) -> String,
     path: &Path,
 ) -> Result<(Instance, Plan)> {
-    if !env.solved {
-        return Err(Error::invalid(
-            path,
-            "the file says solved=false: it holds no plan to validate",
-        ));
-    }
+    env.require_solved(path)?;
     let at = |e: &E, what: &dyn Fn() -> String| {
         vertex(e).map_err(|why| Error::invalid(path, format!("{}: {why}", what())))
     };
