@@ -39,6 +39,13 @@
 //! stronger form of the paper's local search: single robots, then pairs of robots that cross, are
 //! re-planned against all the others and keep their new paths only when the sum of costs drops
 //! (`replanning_passes`, default 4; 0 turns it off).
+//!
+//! When the repair gives up (its prioritised planning is incomplete), [`HStar::complete`] (default
+//! on, `-p complete=false` turns it off) finishes the job with [`crate::lacam`]: the paper's paths
+//! are kept up to the step before their first conflict (or their end), and LaCAM plans from that
+//! configuration to the goals. LaCAM is complete, so the repaired variant returns a valid plan on
+//! every solvable instance, given time. The plan's notes say which stage finished it
+//! (`finished_by`: `paper`, `repair` or `lacam`).
 
 use rand::SeedableRng;
 use rand::seq::IndexedRandom;
@@ -72,6 +79,11 @@ pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             default: "4",
             doc: "passes of local re-planning after the repair (repaired variant; 0 = off)",
         },
+        Param {
+            name: "complete",
+            default: "true",
+            doc: "when the repair gives up, finish from the paper's conflict-free prefix with LaCAM (repaired variant)",
+        },
     ],
     build: |p| {
         let variant =
@@ -79,6 +91,7 @@ pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
         Ok(Box::new(HStar {
             variant,
             replanning_passes: p.get_in("replanning_passes", 0..=1000)?,
+            complete: [true, false][p.choice("complete", &["true", "false"])?],
             ..HStar::default()
         }))
     },
@@ -137,6 +150,10 @@ pub struct HStar {
     pub replanning_passes: usize,
     /// Restarts of the repair step (each puts a failing robot first).
     pub max_repair_rounds: usize,
+    /// When the repair gives up, finish with LaCAM (repaired variant; module doc).
+    pub complete: bool,
+    /// Which stage finished the last plan.
+    finished_by: std::sync::Arc<std::sync::Mutex<Option<&'static str>>>,
 }
 
 impl Default for HStar {
@@ -151,6 +168,8 @@ impl Default for HStar {
             max_stretch: 3,
             max_repair_rounds: 16,
             replanning_passes: 4,
+            complete: true,
+            finished_by: Default::default(),
         }
     }
 }
@@ -547,6 +566,7 @@ impl Planner<MapfProblem> for HStar {
             .filter(|&i| stages.paths[i].last() != Some(&inst.goals[i]))
             .collect();
         let clean = short.is_empty() && stages.resolution_end == ResolutionEnd::NoConflict;
+        let mut finished_by = "paper";
         let mut paths = match (clean, self.variant) {
             (true, _) => stages.paths,
             (false, Variant::Paper) => {
@@ -565,19 +585,74 @@ impl Planner<MapfProblem> for HStar {
                     )
                 }));
             }
-            (false, Variant::Repaired) => reservation_repair(
-                g,
-                inst,
-                &stages.paths,
-                self.max_repair_rounds,
-                opts.deadline,
-            )?,
+            (false, Variant::Repaired) => {
+                match reservation_repair(
+                    g,
+                    inst,
+                    &stages.paths,
+                    self.max_repair_rounds,
+                    opts.deadline,
+                ) {
+                    Ok(paths) => {
+                        finished_by = "repair";
+                        paths
+                    }
+                    Err(Unsolved::GaveUp(_)) if self.complete => {
+                        finished_by = "lacam";
+                        complete_with_lacam(g, inst, &stages.paths, opts)?
+                    }
+                    Err(e) => return Err(e),
+                }
+            }
         };
         if self.variant == Variant::Repaired {
             local_replanning(g, inst, &mut paths, self.replanning_passes, opts.deadline)?;
         }
+        if let Ok(mut slot) = self.finished_by.lock() {
+            *slot = Some(finished_by);
+        }
         Ok(Plan::new(paths))
     }
+
+    /// `finished_by`: the stage that finished the last plan (`paper`, `repair` or `lacam`).
+    fn notes(&self) -> serde_json::Map<String, serde_json::Value> {
+        let mut m = serde_json::Map::new();
+        if let Some(by) = self.finished_by.lock().ok().and_then(|s| *s) {
+            m.insert("finished_by".into(), by.into());
+        }
+        m
+    }
+}
+
+/// H* completed (module doc): `paths` up to the step before their first conflict (or their
+/// end), then LaCAM from that configuration to the goals.
+///
+/// # Errors
+/// LaCAM's: [`Unsolved::GaveUp`] when no plan exists, [`Unsolved::TimeLimit`].
+pub fn complete_with_lacam(
+    g: &Graph,
+    inst: &Instance,
+    paths: &[Vec<VertexId>],
+    opts: &Ctx,
+) -> Result<Vec<Vec<VertexId>>, Unsolved> {
+    let horizon = paths.iter().map(Vec::len).max().unwrap_or(1);
+    let keep = match first_conflict(paths, g.num_vertices(), true) {
+        Some(c) => c.t,
+        None => horizon,
+    };
+    let mut out: Vec<Vec<VertexId>> = paths
+        .iter()
+        .map(|p| (0..keep).map(|t| position(p, t)).collect())
+        .collect();
+    let from: Vec<VertexId> = out.iter().map(|p| *p.last().expect("keep >= 1")).collect();
+    let (configs, _) =
+        crate::lacam::search(&crate::lacam::Lacam::default(), g, &from, &inst.goals, opts)?;
+    for config in &configs[1..] {
+        for (p, &v) in out.iter_mut().zip(config) {
+            p.push(v);
+        }
+    }
+    Ok(out)
 }
 
 /// Our second extension of the local search (repaired variant only), in two moves, repeated while
@@ -773,6 +848,29 @@ mod tests {
             Err(Unsolved::GaveUp(_)) => {}
             Err(e) => panic!("unexpected {e}"),
         }
+    }
+
+    #[test]
+    fn lacam_completes_from_the_conflict_free_prefix() {
+        // The corridor with a side pocket; H*-like paths that run head-on into each other.
+        let map = "#########\n## ######\n#       #\n#########";
+        let m = GridMap::parse(map, Path::new("m.txt")).unwrap().0;
+        let inst =
+            crate::scen::parse_agents("1,2;7,2\n7,2;1,2", Path::new("r.txt"), &m, None).unwrap();
+        let row = |xs: &[i64]| {
+            xs.iter()
+                .map(|&x| m.vertex_at(x, 2).unwrap())
+                .collect::<Vec<_>>()
+        };
+        let paths = vec![row(&[1, 2, 3, 4, 5, 6, 7]), row(&[7, 6, 5, 4, 3, 2, 1])];
+        let done = complete_with_lacam(m.graph(), &inst, &paths, &Ctx::default()).unwrap();
+        // The prefix before the first conflict (t = 3: both on x = 4) is kept.
+        for (p, d) in paths.iter().zip(&done) {
+            assert_eq!(d[..3], p[..3]);
+        }
+        MapfProblem::on(m.graph(), &inst, Rules::default())
+            .validate(&Plan::new(done))
+            .unwrap();
     }
 
     #[test]

@@ -1,56 +1,165 @@
-//! LaCAM: lazy constraints addition search for MAPF (K. Okumura, "LaCAM: search-based algorithm
-//! for quick multi-agent pathfinding", AAAI 2023), baselines §7, with [`crate::pibt`] as its
-//! configuration generator.
+//! LaCAM and LaCAM*: lazy constraints addition search for MAPF (K. Okumura, "LaCAM: search-based
+//! algorithm for quick multi-agent pathfinding", AAAI 2023; "Improving LaCAM for scalable
+//! eventually optimal multi-agent pathfinding", IJCAI 2023), baselines §7, with [`crate::pibt`]
+//! as the configuration generator.
 //!
 //! A depth-first search over configurations (one vertex per agent). Each configuration node keeps
-//! an agent order (farthest from its goal first, ties by id) and a queue of low-level constraint
-//! nodes, each fixing the next vertices of the first `d` agents of that order. Taking a constraint
-//! node from the top configuration expands its children (the next agent in the order, at each of
-//! its neighbours and its own vertex, in a seeded random order) and asks PIBT for a successor
+//! agent priorities (distance / agents at the start, +1 per step off the goal, back to the
+//! fractional part on it), the agent order they give, and a queue of low-level constraint nodes,
+//! each fixing the next vertices of the first `d` agents of that order. Taking a constraint node
+//! from the top configuration expands its children (the next agent in the order, at each of its
+//! neighbours and its own vertex, in a seeded random order) and asks PIBT for a successor
 //! configuration that obeys the constraint; a successor seen before is pushed again instead of
 //! being created. A configuration whose constraint queue runs dry leaves the stack. LaCAM is
 //! complete: on a solvable instance it finds a plan (given time), and on an unsolvable one it
-//! reports so once every configuration is exhausted. This is LaCAM without the anytime
-//! refinement of LaCAM* (still to come); the first plan it finds is returned.
+//! reports so once every configuration is exhausted.
+//!
+//! With `anytime` ([`Lacam::anytime`], `-p anytime=true`) the search is LaCAM*: after the first
+//! plan it keeps searching, drops nodes whose `f = g + h` is not below the best plan's cost,
+//! links every generated configuration to its predecessor (`neighbors`), propagates lower `g`
+//! values Dijkstra-style through those links when a known configuration is reached again, and
+//! re-pushes the known node, or (with probability `restart_rate`) the start node. It stops at the
+//! time limit with the best plan found, or earlier with a proof of optimality when the stack runs
+//! dry. The objective ([`Objective`]) is sum of loss (edge cost = agents not staying on their
+//! goals; `h` = sum of distances) or makespan (edge cost 1; `h` = the largest distance). The
+//! first-solution time, its cost, the final cost and whether it is proven optimal are the
+//! planner's notes (kept in the plan file).
+//!
+//! Where the papers are silent: priorities tie by agent id; the deadline is checked before every
+//! expansion; without a deadline an anytime search runs until it proves optimality.
 
 use std::collections::VecDeque;
+use std::hash::{Hash, Hasher};
+use std::sync::Mutex;
+use std::time::Instant;
 
-use rand::SeedableRng;
 use rand::seq::SliceRandom;
+use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use rustc_hash::FxHashMap;
+use rustc_hash::{FxHashMap, FxHasher};
 
-use crate::pibt::{NIL, Step};
-use mrpp_core::mapf::search::distance::goal_distance_tables;
-use mrpp_core::{Ctx, MapfProblem, Plan, Planner, PlannerEntry, Unsolved, VertexId};
+use crate::pibt::{NIL, Step, Tricks};
+use mrpp_core::mapf::search::distance::{GoalDistances, UNREACHABLE};
+use mrpp_core::{
+    Ctx, Graph, MapfProblem, Param, Plan, Planner, PlannerEntry, Progress, Unsolved, VertexId,
+};
 
 /// Registry name.
 pub const NAME: &str = "lacam";
 
-/// LaCAM in the planner registry.
+/// LaCAM / LaCAM* in the planner registry.
 pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
     name: NAME,
-    about: "LaCAM: lazy constraints addition search with PIBT as configuration generator (Okumura, AAAI 2023); first plan",
-    params: &[],
-    build: |_| Ok(Box::new(Lacam)),
+    about: "LaCAM (Okumura, AAAI 2023), with -p anytime=true LaCAM* (IJCAI 2023): search over configurations with PIBT as generator; complete, LaCAM* eventually optimal",
+    params: &[
+        Param {
+            name: "anytime",
+            default: "false",
+            doc: "true = LaCAM*: after the first plan, improve it until the time limit or a proof of optimality",
+        },
+        Param {
+            name: "objective",
+            default: "sum_of_loss",
+            doc: "what LaCAM* minimises: sum_of_loss (steps agents spend off their goals) or makespan",
+        },
+        Param {
+            name: "swap",
+            default: "true",
+            doc: "PIBT generator with the swap technique (Engineering LaCAM*, AAMAS 2024)",
+        },
+        Param {
+            name: "hindrance",
+            default: "true",
+            doc: "PIBT generator breaks ties by hindrance (Engineering LaCAM*)",
+        },
+        Param {
+            name: "restart_rate",
+            default: "0.001",
+            doc: "LaCAM*: probability of re-pushing the start node instead of a re-reached one",
+        },
+    ],
+    build: |p| {
+        let anytime = [false, true][p.choice("anytime", &["false", "true"])?];
+        let objective = [Objective::SumOfLoss, Objective::Makespan]
+            [p.choice("objective", &["sum_of_loss", "makespan"])?];
+        let restart_rate: f64 = p.get_in("restart_rate", 0.0..=1.0)?;
+        Ok(Box::new(Lacam {
+            anytime,
+            objective,
+            restart_rate,
+            tricks: Tricks::from_params(p)?,
+            ..Lacam::default()
+        }))
+    },
 };
 
-/// The LaCAM planner.
-#[derive(Debug, Clone, Copy, Default)]
-pub struct Lacam;
-
-/// A low-level node: the next vertices of the first agents of the configuration's order.
-struct Constraint {
-    who: Vec<usize>,
-    at: Vec<VertexId>,
+/// What LaCAM* minimises.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Objective {
+    /// Steps agents spend off their goals (an agent resting on its goal costs nothing).
+    #[default]
+    SumOfLoss,
+    /// The number of steps.
+    Makespan,
 }
 
-/// A high-level node.
-struct Node {
-    config: Vec<VertexId>,
-    parent: Option<usize>,
-    order: Vec<usize>,
-    tree: VecDeque<Constraint>,
+impl Objective {
+    fn name(self) -> &'static str {
+        match self {
+            Objective::SumOfLoss => "sum_of_loss",
+            Objective::Makespan => "makespan",
+        }
+    }
+}
+
+/// The LaCAM planner (LaCAM* with `anytime`).
+#[derive(Debug)]
+pub struct Lacam {
+    /// Keep improving after the first plan (LaCAM*).
+    pub anytime: bool,
+    pub objective: Objective,
+    /// LaCAM*: probability of restarting from the start node when a known node is reached.
+    pub restart_rate: f64,
+    /// Refinements of the PIBT generator.
+    pub tricks: Tricks,
+    last: Mutex<Option<Report>>,
+}
+
+impl Default for Lacam {
+    /// LaCAM (first plan), sum of loss, restart rate 0.001, swap and hindrance on.
+    fn default() -> Self {
+        Lacam {
+            anytime: false,
+            objective: Objective::SumOfLoss,
+            restart_rate: 0.001,
+            tricks: Tricks {
+                swap: true,
+                hindrance: true,
+            },
+            last: Mutex::new(None),
+        }
+    }
+}
+
+/// What a LaCAM run reports beside its plan.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Report {
+    /// Seconds from the start of the search to the first plan.
+    pub first_solution_secs: f64,
+    /// The objective's value of the first plan and of the returned one.
+    pub first_cost: u64,
+    pub final_cost: u64,
+    /// The search ran dry with a plan: no plan has a lower objective value.
+    pub proven_optimal: bool,
+    /// Configurations generated.
+    pub configurations: usize,
+}
+
+impl Lacam {
+    /// The report of the last successful run.
+    pub fn report(&self) -> Option<Report> {
+        *self.last.lock().unwrap_or_else(|e| e.into_inner())
+    }
 }
 
 impl Planner<MapfProblem> for Lacam {
@@ -59,173 +168,421 @@ impl Planner<MapfProblem> for Lacam {
     }
 
     fn plan(&self, problem: &MapfProblem, ctx: &Ctx) -> Result<Plan, Unsolved> {
-        let (g, inst) = (problem.graph(), problem.instance());
+        let inst = problem.instance();
+        let (configs, report) = search(self, problem.graph(), &inst.starts, &inst.goals, ctx)?;
+        *self.last.lock().unwrap_or_else(|e| e.into_inner()) = Some(report);
         let n = inst.num_agents();
-        let dist = goal_distance_tables(g, &inst.goals);
-        if let Some(i) = (0..n).find(|&i| dist[i][inst.starts[i] as usize] == u32::MAX) {
-            return Err(Unsolved::GaveUp(format!("agent {i} cannot reach its goal")));
+        Ok(Plan {
+            paths: (0..n)
+                .map(|i| configs.iter().map(|c| c[i]).collect())
+                .collect(),
+        })
+    }
+
+    /// `first_solution_ms`, `first_cost`, `final_cost`, `objective`, `proven_optimal`,
+    /// `configurations` of the last plan.
+    fn notes(&self) -> serde_json::Map<String, serde_json::Value> {
+        let mut m = serde_json::Map::new();
+        if let Some(r) = self.report() {
+            let ms = (r.first_solution_secs * 1e6).round() / 1e3;
+            m.insert("first_solution_ms".into(), ms.into());
+            m.insert("objective".into(), self.objective.name().into());
+            m.insert("first_cost".into(), r.first_cost.into());
+            m.insert("final_cost".into(), r.final_cost.into());
+            m.insert("proven_optimal".into(), r.proven_optimal.into());
+            m.insert("configurations".into(), r.configurations.into());
         }
-        let mut rng = ChaCha8Rng::seed_from_u64(ctx.seed);
-        let order_of = |config: &[VertexId]| {
-            let mut order: Vec<usize> = (0..n).collect();
-            order.sort_by(|&a, &b| {
-                dist[b][config[b] as usize]
-                    .cmp(&dist[a][config[a] as usize])
-                    .then(a.cmp(&b))
-            });
-            order
-        };
-        let root = Node {
-            config: inst.starts.clone(),
-            parent: None,
-            order: order_of(&inst.starts),
-            tree: VecDeque::from([Constraint {
-                who: vec![],
-                at: vec![],
-            }]),
-        };
-        let mut nodes = vec![root];
-        let mut explored: FxHashMap<Vec<VertexId>, usize> = FxHashMap::default();
-        explored.insert(inst.starts.clone(), 0);
-        let mut open = vec![0usize];
-        let mut occupied_now = vec![NIL; g.num_vertices()];
-        let mut steps = 0u64;
-        while let Some(&top) = open.last() {
-            steps += 1;
-            if steps.is_multiple_of(64) && ctx.deadline.expired() {
-                return Err(Unsolved::TimeLimit);
-            }
-            if nodes[top].config == inst.goals {
-                return Ok(extract(&nodes, top, n));
-            }
-            let Some(c) = nodes[top].tree.pop_front() else {
-                open.pop();
-                continue;
-            };
-            // Low-level expansion: the next agent of the order, at each of its candidates.
-            if c.who.len() < n {
-                let i = nodes[top].order[c.who.len()];
-                let v = nodes[top].config[i];
-                let mut cands: Vec<VertexId> = std::iter::once(v)
-                    .chain(g.neighbors(v).iter().copied())
-                    .collect();
-                cands.shuffle(&mut rng);
-                for u in cands {
-                    let mut who = c.who.clone();
-                    let mut at = c.at.clone();
-                    who.push(i);
-                    at.push(u);
-                    nodes[top].tree.push_back(Constraint { who, at });
-                }
-            }
-            let Some(next) = generate(problem, &dist, &nodes[top], &c, &mut occupied_now, &mut rng)
-            else {
-                continue;
-            };
-            if let Some(&seen) = explored.get(&next) {
-                open.push(seen);
-                continue;
-            }
-            let id = nodes.len();
-            nodes.push(Node {
-                order: order_of(&next),
-                config: next.clone(),
-                parent: Some(top),
-                tree: VecDeque::from([Constraint {
-                    who: vec![],
-                    at: vec![],
-                }]),
-            });
-            explored.insert(next, id);
-            open.push(id);
-        }
-        Err(Unsolved::GaveUp(
-            "LaCAM exhausted every reachable configuration: the instance has no solution".into(),
-        ))
+        m
     }
 }
 
-/// PIBT's successor of `node`'s configuration under constraint `c`, or `None` when the
-/// constraint itself breaks a rule (two agents on one vertex, a swap, a non-edge) or PIBT fails.
-fn generate(
-    problem: &MapfProblem,
-    dist: &[Vec<u32>],
-    node: &Node,
-    c: &Constraint,
-    occupied_now: &mut [usize],
-    rng: &mut ChaCha8Rng,
-) -> Option<Vec<VertexId>> {
-    let n = node.config.len();
-    for (i, &v) in node.config.iter().enumerate() {
-        occupied_now[v as usize] = i;
+/// No node.
+const NONE: u32 = u32::MAX;
+
+/// A low-level node: the next vertices of the first agents of the configuration's order.
+struct Constraint {
+    who: Vec<u32>,
+    at: Vec<VertexId>,
+}
+
+/// A high-level node: a configuration.
+struct Node {
+    config: Box<[VertexId]>,
+    parent: u32,
+    /// Configurations generated from this one (LaCAM*'s graph of known transitions).
+    neighbors: Vec<u32>,
+    g: u64,
+    h: u64,
+    priorities: Box<[f32]>,
+    order: Box<[u32]>,
+    tree: VecDeque<Constraint>,
+    /// Next node with the same configuration hash.
+    same_hash: u32,
+}
+
+impl Node {
+    fn f(&self) -> u64 {
+        self.g + self.h
     }
-    let mut st = Step {
-        problem,
+}
+
+/// The search state shared by its steps.
+struct Search<'a> {
+    lacam: &'a Lacam,
+    graph: &'a Graph,
+    goals: &'a [VertexId],
+    dist: GoalDistances<'a>,
+    nodes: Vec<Node>,
+    by_hash: FxHashMap<u64, u32>,
+    occupied_now: Vec<usize>,
+    occupied_next: Vec<usize>,
+    next: Vec<VertexId>,
+    rng: ChaCha8Rng,
+}
+
+/// Runs LaCAM (LaCAM* with `lacam.anytime`) from `starts` to `goals` on `graph`: the plan as one
+/// configuration per step, from `starts` to `goals`, and the run's [`Report`].
+///
+/// # Errors
+/// [`Unsolved::GaveUp`] when an agent cannot reach its goal or every configuration was explored
+/// without reaching the goals (no solution exists); [`Unsolved::TimeLimit`] when the deadline
+/// passes before the first plan.
+pub(crate) fn search(
+    lacam: &Lacam,
+    graph: &Graph,
+    starts: &[VertexId],
+    goals: &[VertexId],
+    ctx: &Ctx,
+) -> Result<(Vec<Vec<VertexId>>, Report), Unsolved> {
+    let began = Instant::now();
+    let n = starts.len();
+    let mut dist = GoalDistances::new(graph, goals);
+    dist.warm_up(starts);
+    if let Some(i) = (0..n).find(|&i| dist.get(i, starts[i]) == UNREACHABLE) {
+        return Err(Unsolved::GaveUp(format!("agent {i} cannot reach its goal")));
+    }
+    let mut s = Search {
+        lacam,
+        graph,
+        goals,
         dist,
-        now: &node.config,
+        nodes: Vec::new(),
+        by_hash: FxHashMap::default(),
+        occupied_now: vec![NIL; graph.num_vertices()],
+        occupied_next: vec![NIL; graph.num_vertices()],
         next: vec![VertexId::MAX; n],
-        occupied_now,
-        occupied_next: vec![NIL; problem.graph().num_vertices()],
-        rng,
+        rng: ChaCha8Rng::seed_from_u64(ctx.seed),
     };
-    let mut ok = true;
-    for (&i, &u) in c.who.iter().zip(&c.at) {
-        let j = st.occupied_now[u as usize];
-        if st.occupied_next[u as usize] != NIL
-            || (j != NIL && j != i && st.next[j] == node.config[i])
-        {
-            ok = false;
+    let root = s.create(starts.to_vec().into_boxed_slice(), NONE, 0);
+    let mut open = vec![root];
+    let mut goal = NONE;
+    let mut first: Option<(f64, u64)> = None;
+    while let Some(&top) = open.last() {
+        if ctx.deadline.expired() {
             break;
         }
-        st.next[i] = u;
-        st.occupied_next[u as usize] = i;
+        if s.nodes[top as usize].tree.is_empty() {
+            open.pop();
+            continue;
+        }
+        if goal != NONE && s.nodes[top as usize].f() >= s.nodes[goal as usize].f() {
+            open.pop();
+            continue;
+        }
+        if goal == NONE && *s.nodes[top as usize].config == *goals {
+            goal = top;
+            let cost = s.nodes[top as usize].g;
+            first = Some((began.elapsed().as_secs_f64(), cost));
+            if !lacam.anytime {
+                break;
+            }
+            ctx.report(Progress {
+                stage: "LaCAM* cost",
+                done: cost,
+                total: 0,
+                note: format!("first plan, {} {cost}", lacam.objective.name()),
+            });
+            continue;
+        }
+        let c = s.nodes[top as usize]
+            .tree
+            .pop_front()
+            .expect("checked non-empty");
+        s.expand_low_level(top, &c);
+        if !s.generate(top, &c) {
+            continue;
+        }
+        let hash = config_hash(&s.next);
+        if let Some(known) = s.find(hash) {
+            let before = (goal != NONE).then(|| s.nodes[goal as usize].g);
+            s.rewrite(top, known, goal, &mut open);
+            if let Some(b) = before
+                && s.nodes[goal as usize].g < b
+            {
+                let cost = s.nodes[goal as usize].g;
+                ctx.report(Progress {
+                    stage: "LaCAM* cost",
+                    done: cost,
+                    total: 0,
+                    note: format!("improved, {} {cost}", lacam.objective.name()),
+                });
+            }
+            let restart = lacam.anytime && s.rng.random::<f64>() < lacam.restart_rate;
+            let push = if restart { root } else { known };
+            if goal == NONE || s.nodes[push as usize].f() < s.nodes[goal as usize].f() {
+                open.push(push);
+            }
+        } else {
+            let config = s.next.clone().into_boxed_slice();
+            let g = s.nodes[top as usize].g + s.edge_cost(&s.nodes[top as usize].config, &config);
+            let id = s.create(config, top, g);
+            s.nodes[top as usize].neighbors.push(id);
+            s.link(hash, id);
+            if goal == NONE || s.nodes[id as usize].f() < s.nodes[goal as usize].f() {
+                open.push(id);
+            }
+        }
     }
-    if ok {
-        for &i in &node.order {
-            if st.next[i] == VertexId::MAX && !st.assign(i) {
+    if goal == NONE {
+        return Err(if open.is_empty() {
+            Unsolved::GaveUp(
+                "LaCAM exhausted every reachable configuration: the instance has no solution"
+                    .into(),
+            )
+        } else {
+            Unsolved::TimeLimit
+        });
+    }
+    let (first_solution_secs, first_cost) = first.expect("set with the goal");
+    let report = Report {
+        first_solution_secs,
+        first_cost,
+        final_cost: s.nodes[goal as usize].g,
+        proven_optimal: lacam.anytime && open.is_empty(),
+        configurations: s.nodes.len(),
+    };
+    let mut configs = Vec::new();
+    let mut k = goal;
+    while k != NONE {
+        configs.push(s.nodes[k as usize].config.to_vec());
+        k = s.nodes[k as usize].parent;
+    }
+    configs.reverse();
+    Ok((configs, report))
+}
+
+/// FxHash of a configuration.
+fn config_hash(config: &[VertexId]) -> u64 {
+    let mut h = FxHasher::default();
+    config.hash(&mut h);
+    h.finish()
+}
+
+impl Search<'_> {
+    /// A new node for `config` reached from `parent` at cost `g` (the root: `parent` = NONE);
+    /// registered under its hash when it is the root (children are linked by the caller).
+    fn create(&mut self, config: Box<[VertexId]>, parent: u32, g: u64) -> u32 {
+        let n = config.len();
+        let priorities: Box<[f32]> = if parent == NONE {
+            (0..n)
+                .map(|i| self.dist.get(i, config[i]) as f32 / n as f32)
+                .collect()
+        } else {
+            let before = &self.nodes[parent as usize].priorities;
+            (0..n)
+                .map(|i| {
+                    if config[i] == self.goals[i] {
+                        before[i].fract()
+                    } else {
+                        before[i] + 1.0
+                    }
+                })
+                .collect()
+        };
+        let mut order: Box<[u32]> = (0..n as u32).collect();
+        order.sort_by(|&a, &b| priorities[b as usize].total_cmp(&priorities[a as usize]));
+        let h = self.heuristic(&config);
+        let id = self.nodes.len() as u32;
+        if parent == NONE {
+            let hash = config_hash(&config);
+            self.by_hash.insert(hash, id);
+        }
+        self.nodes.push(Node {
+            config,
+            parent,
+            neighbors: Vec::new(),
+            g,
+            h,
+            priorities,
+            order,
+            tree: VecDeque::from([Constraint {
+                who: Vec::new(),
+                at: Vec::new(),
+            }]),
+            same_hash: NONE,
+        });
+        id
+    }
+
+    /// Registers node `id` under `hash`.
+    fn link(&mut self, hash: u64, id: u32) {
+        let head = self.by_hash.insert(hash, id).unwrap_or(NONE);
+        self.nodes[id as usize].same_hash = head;
+    }
+
+    /// The node whose configuration is `self.next`, if any.
+    fn find(&self, hash: u64) -> Option<u32> {
+        let mut k = *self.by_hash.get(&hash)?;
+        while k != NONE {
+            if *self.nodes[k as usize].config == *self.next {
+                return Some(k);
+            }
+            k = self.nodes[k as usize].same_hash;
+        }
+        None
+    }
+
+    /// Lower bound of the cost from `config` to the goals.
+    fn heuristic(&self, config: &[VertexId]) -> u64 {
+        let d = (0..config.len()).map(|i| u64::from(self.dist.get(i, config[i])));
+        match self.lacam.objective {
+            Objective::SumOfLoss => d.sum(),
+            Objective::Makespan => d.max().unwrap_or(0),
+        }
+    }
+
+    /// Cost of the step from configuration `a` to `b`.
+    fn edge_cost(&self, a: &[VertexId], b: &[VertexId]) -> u64 {
+        match self.lacam.objective {
+            Objective::Makespan => 1,
+            Objective::SumOfLoss => (0..a.len())
+                .filter(|&i| !(a[i] == self.goals[i] && b[i] == self.goals[i]))
+                .count() as u64,
+        }
+    }
+
+    /// Queues the children of constraint `c` of node `id`: the next agent of the order at each
+    /// of its candidates, shuffled.
+    fn expand_low_level(&mut self, id: u32, c: &Constraint) {
+        let node = &self.nodes[id as usize];
+        if c.who.len() >= node.config.len() {
+            return;
+        }
+        let i = node.order[c.who.len()];
+        let v = node.config[i as usize];
+        let mut cands: Vec<VertexId> = std::iter::once(v)
+            .chain(self.graph.neighbors(v).iter().copied())
+            .collect();
+        cands.shuffle(&mut self.rng);
+        let node = &mut self.nodes[id as usize];
+        for u in cands {
+            let mut who = Vec::with_capacity(c.who.len() + 1);
+            who.extend_from_slice(&c.who);
+            who.push(i);
+            let mut at = Vec::with_capacity(c.at.len() + 1);
+            at.extend_from_slice(&c.at);
+            at.push(u);
+            node.tree.push_back(Constraint { who, at });
+        }
+    }
+
+    /// PIBT's successor of node `id`'s configuration under constraint `c`, into `self.next`;
+    /// false when the constraint itself breaks a rule (two agents on one vertex, a swap) or the
+    /// generator leaves a conflict.
+    fn generate(&mut self, id: u32, c: &Constraint) -> bool {
+        let node = &self.nodes[id as usize];
+        let now = &node.config;
+        for (i, &v) in now.iter().enumerate() {
+            self.occupied_now[v as usize] = i;
+        }
+        self.next.fill(VertexId::MAX);
+        let mut st = Step {
+            graph: self.graph,
+            dist: &self.dist,
+            goals: self.goals,
+            tricks: self.lacam.tricks,
+            now,
+            next: &mut self.next,
+            occupied_now: &self.occupied_now,
+            occupied_next: &mut self.occupied_next,
+            rng: &mut self.rng,
+        };
+        let mut ok = true;
+        for (&i, &u) in c.who.iter().zip(&c.at) {
+            let i = i as usize;
+            let j = st.occupied_now[u as usize];
+            if st.occupied_next[u as usize] != NIL || (j != NIL && j != i && st.next[j] == now[i]) {
                 ok = false;
                 break;
             }
+            st.next[i] = u;
+            st.occupied_next[u as usize] = i;
         }
-    }
-    let next = st.next;
-    for &v in &node.config {
-        occupied_now[v as usize] = NIL;
-    }
-    // The generator may leave an agent where an earlier one is bound: only a conflict-free
-    // successor counts.
-    (ok && valid_step(problem, &node.config, &next)).then_some(next)
-}
-
-/// Whether moving from `from` to `to` keeps one agent per vertex, uses edges and swaps nothing.
-fn valid_step(problem: &MapfProblem, from: &[VertexId], to: &[VertexId]) -> bool {
-    let g = problem.graph();
-    let mut seen = FxHashMap::default();
-    for (i, (&a, &b)) in from.iter().zip(to).enumerate() {
-        if b == VertexId::MAX || (a != b && !g.has_edge(a, b)) || seen.insert(b, i).is_some() {
-            return false;
+        if ok {
+            for &i in node.order.iter() {
+                let i = i as usize;
+                if st.next[i] == VertexId::MAX && !st.assign(i) {
+                    ok = false;
+                    break;
+                }
+            }
         }
+        // The generator may leave an agent where an earlier one is bound (its own vertex, when
+        // it could not move): only a conflict-free successor counts.
+        for (i, &v) in self.next.iter().enumerate() {
+            if v == VertexId::MAX {
+                ok = false;
+                continue;
+            }
+            if self.occupied_next[v as usize] != i {
+                ok = false;
+            }
+            let j = self.occupied_now[v as usize];
+            if j != NIL && j != i && self.next[j] == now[i] {
+                ok = false;
+            }
+        }
+        for &v in self.next.iter() {
+            if v != VertexId::MAX {
+                self.occupied_next[v as usize] = NIL;
+            }
+        }
+        for &v in now.iter() {
+            self.occupied_now[v as usize] = NIL;
+        }
+        ok
     }
-    let at: FxHashMap<VertexId, usize> = from.iter().enumerate().map(|(i, &v)| (v, i)).collect();
-    from.iter()
-        .zip(to)
-        .enumerate()
-        .all(|(i, (&a, &b))| a == b || at.get(&b).is_none_or(|&j| j == i || to[j] != a))
-}
 
-/// The plan from the root to node `goal`: one configuration per step.
-fn extract(nodes: &[Node], goal: usize, n: usize) -> Plan {
-    let mut configs = Vec::new();
-    let mut k = Some(goal);
-    while let Some(id) = k {
-        configs.push(&nodes[id].config);
-        k = nodes[id].parent;
-    }
-    configs.reverse();
-    Plan {
-        paths: (0..n)
-            .map(|i| configs.iter().map(|c| c[i]).collect())
-            .collect(),
+    /// LaCAM*'s rewrite: records `to` as a successor of `from` and propagates lower `g` values
+    /// through the known transitions (Dijkstra-style), pushing improved nodes that can still
+    /// beat the best plan.
+    fn rewrite(&mut self, from: u32, to: u32, goal: u32, open: &mut Vec<u32>) {
+        if !self.nodes[from as usize].neighbors.contains(&to) {
+            self.nodes[from as usize].neighbors.push(to);
+        }
+        if !self.lacam.anytime {
+            return;
+        }
+        let mut queue = VecDeque::from([from]);
+        while let Some(a) = queue.pop_front() {
+            for k in 0..self.nodes[a as usize].neighbors.len() {
+                let b = self.nodes[a as usize].neighbors[k];
+                let g = self.nodes[a as usize].g
+                    + self.edge_cost(
+                        &self.nodes[a as usize].config,
+                        &self.nodes[b as usize].config,
+                    );
+                if g < self.nodes[b as usize].g {
+                    let nb = &mut self.nodes[b as usize];
+                    nb.g = g;
+                    nb.parent = a;
+                    queue.push_back(b);
+                    if goal != NONE && nb.f() < self.nodes[goal as usize].f() {
+                        open.push(b);
+                    }
+                }
+            }
+        }
     }
 }
 
@@ -233,7 +590,7 @@ fn extract(nodes: &[Node], goal: usize, n: usize) -> Plan {
 mod tests {
     use super::*;
     use mrpp_core::mapf::graph::Graph;
-    use mrpp_core::{Instance, Rules, solve};
+    use mrpp_core::{Deadline, Instance, Rules, solve};
 
     #[test]
     fn solves_a_corridor_swap_that_needs_a_side_pocket() {
@@ -241,14 +598,44 @@ mod tests {
         let g = Graph::from_edges(5, &[(0, 1), (1, 2), (2, 3), (1, 4)]);
         let inst = Instance::new(vec![0, 3], vec![3, 0]).unwrap();
         let p = MapfProblem::on(&g, &inst, Rules::default());
-        let s = solve(&Lacam, &p, &Ctx::default()).unwrap();
+        let s = solve(&Lacam::default(), &p, &Ctx::default()).unwrap();
         assert!(s.metrics.makespan >= 4);
         // Without the pocket there is no solution, and LaCAM says so.
         let g = Graph::from_edges(4, &[(0, 1), (1, 2), (2, 3)]);
         let p = MapfProblem::on(&g, &inst, Rules::default());
         assert!(matches!(
-            solve(&Lacam, &p, &Ctx::default()),
+            solve(&Lacam::default(), &p, &Ctx::default()),
             Err(Unsolved::GaveUp(_))
         ));
+    }
+
+    /// The T-tree of baselines §1: A-B-C, C-D, C-E (0..=4); r1: A -> B, r2: B -> A.
+    fn t_tree() -> (Graph, Instance) {
+        let g = Graph::from_edges(5, &[(0, 1), (1, 2), (2, 3), (2, 4)]);
+        (g, Instance::new(vec![0, 1], vec![1, 0]).unwrap())
+    }
+
+    #[test]
+    fn lacam_star_converges_on_the_t_tree() {
+        let (g, inst) = t_tree();
+        let p = MapfProblem::on(&g, &inst, Rules::default());
+        for (objective, want) in [(Objective::Makespan, 5), (Objective::SumOfLoss, 10)] {
+            for seed in 0..5 {
+                let planner = Lacam {
+                    anytime: true,
+                    objective,
+                    restart_rate: 0.001,
+                    ..Lacam::default()
+                };
+                let s = solve(&planner, &p, &Ctx::new(seed, Deadline::none())).unwrap();
+                let r = planner.report().unwrap();
+                assert!(r.proven_optimal, "{objective:?} seed {seed}: {r:?}");
+                assert_eq!(r.final_cost, want, "{objective:?} seed {seed}: {r:?}");
+                assert!(r.first_cost >= r.final_cost);
+                if objective == Objective::Makespan {
+                    assert_eq!(s.metrics.makespan, want);
+                }
+            }
+        }
     }
 }

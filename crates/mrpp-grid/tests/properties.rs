@@ -1,6 +1,7 @@
 //! Property tests of the validator and the grid planners, on random small grids.
 //!
-//! 1. Every planner of `PLANNER_NAMES` (plus H* `paper` and WHCA* with windows 1 and 2), called
+//! 1. Every registered planner (plus non-default variants: H* `paper` and without completion,
+//!    WHCA* with windows 1 and 2, LaCAM* and LaCAM without PIBT's tricks, PIBT with them), called
 //!    directly through `Planner::plan`, never returns a plan the validator rejects; a plan returned
 //!    by `solve` always validates; single-agent instances are always solved.
 //! 2. The validator catches injected conflicts with the right kind, agent pair and time step:
@@ -31,8 +32,19 @@ use proptest::sample::Index;
 /// Per-call time limit of the planners.
 const LIMIT: Duration = Duration::from_secs(2);
 
+/// Per-call time limit of anytime planners (they use all of it unless they prove optimality).
+const ANYTIME_LIMIT: Duration = Duration::from_millis(100);
+
 fn opts() -> Ctx {
     Ctx::new(0, Deadline::after(LIMIT))
+}
+
+fn opts_for(label: &str) -> Ctx {
+    if label.contains("anytime=true") {
+        Ctx::new(0, Deadline::after(ANYTIME_LIMIT))
+    } else {
+        opts()
+    }
 }
 
 /// Rows of free (`true`) cells: width and height 3..=8, obstacle density 0..=35 %.
@@ -204,6 +216,22 @@ fn all_planners() -> Vec<(String, Box<dyn Planner<MapfProblem>>)> {
     runs.push(("hstar", kv("variant", "paper")));
     runs.push(("whca", kv("window", "1")));
     runs.push(("whca", kv("window", "2")));
+    runs.push(("lacam", kv("anytime", "true")));
+    runs.push((
+        "lacam",
+        vec![
+            ("swap".to_string(), "false".to_string()),
+            ("hindrance".to_string(), "false".to_string()),
+        ],
+    ));
+    runs.push((
+        "pibt",
+        vec![
+            ("swap".to_string(), "true".to_string()),
+            ("hindrance".to_string(), "true".to_string()),
+        ],
+    ));
+    runs.push(("hstar", kv("complete", "false")));
     runs.into_iter()
         .map(|(name, params)| {
             let mut label = format!("--planner {name}");
@@ -333,7 +361,8 @@ proptest! {
     })]
 
     /// Property 1: no planner returns an invalid plan, `solve` never does, one agent is always
-    /// solved.
+    /// solved; the complete planners (LaCAM, H* with its default completion) solve every
+    /// instance that any planner solves.
     #[test]
     fn planners_never_return_invalid_plans(case in case(1)) {
         let map = parse_map(&case.rows);
@@ -341,8 +370,9 @@ proptest! {
         prop_assert_eq!(map.graph(), built.graph());
         let g = map.graph();
         let inst = case.instance();
+        let mut solved_by = Vec::new();
         for (label, p) in &all_planners() {
-            let direct = p.plan(&MapfProblem::on(g, &inst, Rules::default()), &opts());
+            let direct = p.plan(&MapfProblem::on(g, &inst, Rules::default()), &opts_for(label));
             if let Ok(plan) = &direct {
                 let v = MapfProblem::on(g, &inst, Rules::default()).validate(plan);
                 prop_assert!(
@@ -361,13 +391,24 @@ proptest! {
                     direct
                 );
             }
-            if let Ok(solved) = solve(p.as_ref(), &MapfProblem::on(g, &inst, Rules::default()), &opts()) {
+            if let Ok(solved) = solve(p.as_ref(), &MapfProblem::on(g, &inst, Rules::default()), &opts_for(label)) {
                 let v = MapfProblem::on(g, &inst, Rules::default()).validate(&solved.plan);
                 prop_assert!(
                     v.is_ok(),
                     "solve({}) returned an invalid plan: {:?}",
                     label,
                     v
+                );
+                solved_by.push(label.clone());
+            }
+        }
+        if !solved_by.is_empty() {
+            for complete in ["--planner lacam", "--planner hstar"] {
+                prop_assert!(
+                    solved_by.iter().any(|l| l == complete),
+                    "{} did not solve an instance that {:?} solved",
+                    complete,
+                    solved_by
                 );
             }
         }
