@@ -156,6 +156,15 @@ pub struct Report {
 }
 
 impl Lacam {
+    /// LaCAM* (anytime) minimising `objective`, other settings as [`Lacam::default`].
+    pub fn star(objective: Objective) -> Self {
+        Lacam {
+            anytime: true,
+            objective,
+            ..Lacam::default()
+        }
+    }
+
     /// The report of the last successful run.
     pub fn report(&self) -> Option<Report> {
         *self.last.lock().unwrap_or_else(|e| e.into_inner())

@@ -1,8 +1,9 @@
 //! mrpp-grid: the grid MAPF family. MovingAI `.map`/`.scen` and the H* paper's map and robot
 //! files become a [`MapfProblem`] with `stay` rules; the planners (H*, CA*/HCA*/WHCA*, Enol2023,
-//! NSGA-III, PIBT) work on any graph with cell coordinates. [`PLANNERS`] is the family's registry;
+//! NSGA-III, PIBT, LaCAM/LaCAM*, CBS, EECBS) work on any graph with cell coordinates. [`PLANNERS`] is the family's registry;
 //! [`io`] holds the LaCAM text result, the SVG picture and the grid plan file.
 
+pub mod cbs;
 pub mod coevolution;
 pub mod cooperative;
 pub mod corridors;
@@ -33,6 +34,8 @@ pub static PLANNERS: &[PlannerEntry<MapfProblem>] = &[
     nsga3::ENTRY,
     pibt::ENTRY,
     lacam::ENTRY,
+    cbs::CBS_ENTRY,
+    cbs::EECBS_ENTRY,
 ];
 
 /// A grid problem: `map` with the agents of `scen` (the first `agents` of them; all when

@@ -1,0 +1,307 @@
+//! CBS's low level: one agent's space-time search under its constraints, with a focal list
+//! (Pearl and Kim's A*_ε, as ECBS uses it) that prefers paths with fewer conflicts with the other
+//! agents' current paths. With weight `w = 1` the focal list holds exactly the nodes of minimal
+//! `f`, which makes it A* with conflict-avoidance tie-breaking, the low level of CBS.
+//!
+//! Rules are the validator's (stay semantics, following allowed): a state is `(vertex, t)`; moves
+//! and waits cost 1; an agent's cost is the step at which it reaches its goal for good, so the goal
+//! counts only after the last vertex constraint on it.
+
+use std::collections::BTreeSet;
+
+use rustc_hash::{FxHashMap, FxHashSet};
+
+use mrpp_core::{Deadline, Graph, VertexId};
+
+/// A CBS constraint on one agent.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Constraint {
+    /// The agent is not at `v` at time `t`.
+    Vertex { v: VertexId, t: u32 },
+    /// The agent does not move from `u` (at `t - 1`) to `v` (at `t`).
+    Edge { u: VertexId, v: VertexId, t: u32 },
+}
+
+/// The constraints of one agent, indexed for the search.
+#[derive(Debug, Default)]
+pub struct Constraints {
+    vertices: FxHashSet<(VertexId, u32)>,
+    edges: FxHashSet<(VertexId, VertexId, u32)>,
+    /// Latest constrained time step (0 when none).
+    pub last_t: u32,
+    /// Latest vertex constraint on the goal, if any.
+    goal_last: Option<u32>,
+}
+
+impl Constraints {
+    /// Indexes `list` for an agent going to `goal`.
+    pub fn new<'a>(goal: VertexId, list: impl IntoIterator<Item = &'a Constraint>) -> Self {
+        let mut c = Constraints::default();
+        for &k in list {
+            match k {
+                Constraint::Vertex { v, t } => {
+                    c.vertices.insert((v, t));
+                    if v == goal {
+                        c.goal_last = Some(c.goal_last.map_or(t, |g| g.max(t)));
+                    }
+                    c.last_t = c.last_t.max(t);
+                }
+                Constraint::Edge { u, v, t } => {
+                    c.edges.insert((u, v, t));
+                    c.last_t = c.last_t.max(t);
+                }
+            }
+        }
+        c
+    }
+
+    /// Whether moving (or waiting) from `u` at `t - 1` to `v` at `t` is allowed.
+    pub fn allows(&self, u: VertexId, v: VertexId, t: u32) -> bool {
+        !self.vertices.contains(&(v, t)) && !self.edges.contains(&(u, v, t))
+    }
+
+    /// Whether an agent standing on its goal at `t` may stay there for good.
+    pub fn goal_free_from(&self, t: u32) -> bool {
+        self.goal_last.is_none_or(|g| g < t)
+    }
+}
+
+/// Where the other agents are: the conflict-avoidance table a search consults to count the
+/// conflicts of a move.
+#[derive(Debug, Default)]
+pub struct AvoidanceTable {
+    at: FxHashMap<(VertexId, u32), u32>,
+    moves: FxHashMap<(VertexId, VertexId, u32), u32>,
+    /// Vertex → earliest time from which some agent rests there for good (and how many).
+    parked: FxHashMap<VertexId, Vec<u32>>,
+}
+
+impl AvoidanceTable {
+    /// The table of `paths` except agent `skip`'s.
+    pub fn new(paths: &[std::rc::Rc<Vec<VertexId>>], skip: usize) -> Self {
+        let mut t = AvoidanceTable::default();
+        for (j, p) in paths.iter().enumerate() {
+            if j == skip || p.is_empty() {
+                continue;
+            }
+            for (k, &v) in p.iter().enumerate() {
+                *t.at.entry((v, k as u32)).or_default() += 1;
+                if k > 0 && p[k - 1] != v {
+                    *t.moves.entry((p[k - 1], v, k as u32)).or_default() += 1;
+                }
+            }
+            let end = p.len() as u32 - 1;
+            t.parked.entry(p[p.len() - 1]).or_default().push(end);
+        }
+        t
+    }
+
+    /// Conflicts of moving from `u` at `t - 1` to `v` at `t`.
+    fn conflicts(&self, u: VertexId, v: VertexId, t: u32) -> u32 {
+        let mut c = self.at.get(&(v, t)).copied().unwrap_or(0);
+        if let Some(ends) = self.parked.get(&v) {
+            c += ends.iter().filter(|&&e| e < t).count() as u32;
+        }
+        if u != v {
+            c += self.moves.get(&(v, u, t)).copied().unwrap_or(0);
+        }
+        c
+    }
+}
+
+/// One agent's query.
+pub struct Query<'a> {
+    pub graph: &'a Graph,
+    pub start: VertexId,
+    pub goal: VertexId,
+    /// Distance to the goal of every vertex (the heuristic; `u32::MAX` = unreachable).
+    pub h: &'a dyn Fn(VertexId) -> u32,
+    pub constraints: &'a Constraints,
+    pub avoid: &'a AvoidanceTable,
+    /// Focal weight (>= 1; 1 = A*).
+    pub w: f64,
+    pub deadline: Deadline,
+}
+
+/// A found path and the lower bound on the agent's cost the search proved (`f_min`).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Found {
+    pub path: Vec<VertexId>,
+    pub lower_bound: u64,
+}
+
+/// Why no path came back.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NoPath {
+    /// No path satisfies the constraints.
+    None,
+    TimedOut,
+}
+
+struct Node {
+    v: VertexId,
+    t: u32,
+    g: u32,
+    f: u32,
+    conflicts: u32,
+    parent: u32,
+    closed: bool,
+}
+
+/// Focal search for one agent (module doc). The returned path costs at most `w` times the
+/// returned lower bound, which is at most the agent's optimal cost under its constraints.
+pub fn focal_search(q: &Query) -> Result<Found, NoPath> {
+    let h0 = (q.h)(q.start);
+    if h0 == u32::MAX || !q.constraints.allows(q.start, q.start, 0) {
+        return Err(NoPath::None);
+    }
+    // After the last constraint, any vertex reaches the goal within |V| steps.
+    let max_t = q.constraints.last_t + q.graph.num_vertices() as u32 + 1;
+    let mut nodes = vec![Node {
+        v: q.start,
+        t: 0,
+        g: 0,
+        f: h0,
+        conflicts: 0,
+        parent: u32::MAX,
+        closed: false,
+    }];
+    let mut index: FxHashMap<(VertexId, u32), u32> = FxHashMap::default();
+    index.insert((q.start, 0), 0);
+    let mut open: BTreeSet<(u32, u32)> = BTreeSet::from([(h0, 0)]);
+    // (conflicts, f, higher g first, id)
+    let focal_key = |n: &Node, id: u32| (n.conflicts, n.f, u32::MAX - n.g, id);
+    let mut focal: BTreeSet<(u32, u32, u32, u32)> = BTreeSet::from([focal_key(&nodes[0], 0)]);
+    let bound_of = |f_min: u32| (f64::from(f_min) * q.w + 1e-9).floor() as u32;
+    let mut f_min = h0;
+    let mut expansions = 0u64;
+    while let Some(&(_, _, _, id)) = focal.first() {
+        expansions += 1;
+        if expansions.is_multiple_of(1024) && q.deadline.expired() {
+            return Err(NoPath::TimedOut);
+        }
+        focal.pop_first();
+        let (v, t, g, f) = {
+            let n = &nodes[id as usize];
+            (n.v, n.t, n.g, n.f)
+        };
+        open.remove(&(f, id));
+        nodes[id as usize].closed = true;
+        if v == q.goal && q.constraints.goal_free_from(t) {
+            let mut path = Vec::with_capacity(t as usize + 1);
+            let mut k = id;
+            while k != u32::MAX {
+                path.push(nodes[k as usize].v);
+                k = nodes[k as usize].parent;
+            }
+            path.reverse();
+            return Ok(Found {
+                path,
+                lower_bound: u64::from(f_min),
+            });
+        }
+        if t < max_t {
+            let nt = t + 1;
+            for &w in std::iter::once(&v).chain(q.graph.neighbors(v)) {
+                if !q.constraints.allows(v, w, nt) {
+                    continue;
+                }
+                let hw = (q.h)(w);
+                if hw == u32::MAX {
+                    continue;
+                }
+                let (ng, nf) = (g + 1, g + 1 + hw);
+                let nc = nodes[id as usize].conflicts + q.avoid.conflicts(v, w, nt);
+                let bound = bound_of(f_min);
+                match index.get(&(w, nt)) {
+                    Some(&k) => {
+                        let old = &nodes[k as usize];
+                        if old.closed || (ng, nc) >= (old.g, old.conflicts) {
+                            continue;
+                        }
+                        open.remove(&(old.f, k));
+                        focal.remove(&focal_key(old, k));
+                        let n = &mut nodes[k as usize];
+                        (n.g, n.f, n.conflicts, n.parent) = (ng, nf, nc, id);
+                        open.insert((nf, k));
+                        if nf <= bound {
+                            focal.insert(focal_key(&nodes[k as usize], k));
+                        }
+                    }
+                    None => {
+                        let k = nodes.len() as u32;
+                        nodes.push(Node {
+                            v: w,
+                            t: nt,
+                            g: ng,
+                            f: nf,
+                            conflicts: nc,
+                            parent: id,
+                            closed: false,
+                        });
+                        index.insert((w, nt), k);
+                        open.insert((nf, k));
+                        if nf <= bound {
+                            focal.insert(focal_key(&nodes[k as usize], k));
+                        }
+                    }
+                }
+            }
+        }
+        // The lower bound rose: nodes now within w * f_min join the focal list.
+        if let Some(&(new_min, _)) = open.first()
+            && new_min > f_min
+        {
+            let (old_bound, new_bound) = (bound_of(f_min), bound_of(new_min));
+            for &(f, k) in open.range((old_bound + 1, 0)..) {
+                if f > new_bound {
+                    break;
+                }
+                focal.insert(focal_key(&nodes[k as usize], k));
+            }
+            f_min = new_min;
+        }
+    }
+    Err(NoPath::None)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mrpp_core::mapf::search::distance::bfs_distances;
+
+    #[test]
+    fn a_goal_constraint_delays_arrival_and_an_edge_constraint_forces_a_wait() {
+        // Path 0-1-2.
+        let g = Graph::from_edges(3, &[(0, 1), (1, 2)]);
+        let d = bfs_distances(&g, 2);
+        let h = |v: VertexId| d[v as usize];
+        let empty = AvoidanceTable::default();
+        let run = |list: &[Constraint]| {
+            let c = Constraints::new(2, list);
+            focal_search(&Query {
+                graph: &g,
+                start: 0,
+                goal: 2,
+                h: &h,
+                constraints: &c,
+                avoid: &empty,
+                w: 1.0,
+                deadline: Deadline::none(),
+            })
+        };
+        assert_eq!(run(&[]).unwrap().path, vec![0, 1, 2]);
+        // Not on the goal at t = 4: the agent may pass earlier but must arrive after.
+        assert_eq!(
+            run(&[Constraint::Vertex { v: 2, t: 4 }])
+                .unwrap()
+                .path
+                .len(),
+            6
+        );
+        let p = run(&[Constraint::Edge { u: 0, v: 1, t: 1 }]).unwrap();
+        assert_eq!(p.path, vec![0, 0, 1, 2]);
+        assert_eq!(p.lower_bound, 3);
+        assert_eq!(run(&[Constraint::Vertex { v: 0, t: 0 }]), Err(NoPath::None));
+    }
+}

@@ -1,0 +1,672 @@
+//! Conflict-based search: CBS (Sharon, Stern, Felner, Sturtevant, "Conflict-based search for
+//! optimal multi-agent pathfinding", AIJ 219, 2015) with the ICBS improvements (Boyarski et al.,
+//! IJCAI 2015): conflicts prioritised by MDDs (cardinal, then semi-cardinal, then non-cardinal)
+//! and bypass; and EECBS (Li, Ruml, Koenig, "EECBS: a bounded-suboptimal search for multi-agent
+//! path finding", AAAI 2021): explicit estimation search at the high level over focal-search
+//! low levels, with sum of costs at most `w` times the optimum. Baselines §7.
+//!
+//! A constraint-tree node holds one path per agent, its constraints (a chain of one constraint per
+//! node back to the root), the sum of costs and the conflicts between its paths (the first one of
+//! each conflicting pair). Expanding a node picks a conflict and makes two children, each with
+//! one more constraint on one of the two agents (vertex `(i, v, t)` or edge `(i, u, v, t)`), and
+//! re-plans only that agent with [`low_level::focal_search`] (space-time search under the
+//! validator's rules: stay at the goal, following allowed, no vertex or swap conflicts; ties go to
+//! fewer conflicts with the other agents' paths). *Bypass*: a child whose new path costs no more
+//! and leaves fewer conflicts gives its path to the parent, which is expanded again instead of
+//! being split.
+//!
+//! CBS pops the node of least sum of costs (ties: fewer conflicts) and is optimal. EECBS keeps
+//! three orders over the open nodes: CLEANUP by lower bound `LB` (the sum of the low levels'
+//! proven bounds), OPEN by `f̂ = cost + ĥ`, FOCAL (nodes with `f̂ <= w · f̂_min`) by number of
+//! conflicts; it expands the first of FOCAL if its cost is within `w · LB_min`, else the first of
+//! OPEN if within, else the first of CLEANUP, so every returned plan costs at most `w` times the
+//! optimum. `ĥ` is learned online (EECBS §4.3): after each expansion the best child's one-step
+//! errors in cost (`ε_h`) and in conflicts (`ε_d`) update running means, and `ĥ(n) = d(n) ·
+//! ε̄_h / (1 − ε̄_d)` for `d(n)` conflicts; mrpp caps the divisor below at 0.1 (the paper leaves
+//! `ε̄_d >= 1` open).
+//!
+//! Not implemented (named for users comparing with the literature): disjoint splitting, symmetry
+//! reasoning and the WDG heuristic. CBS does not terminate on unsolvable instances that have
+//! infinitely many constraint sets; the time limit ends it.
+
+pub mod low_level;
+pub mod mdd;
+
+use std::collections::{BTreeSet, BinaryHeap};
+use std::rc::Rc;
+use std::sync::Mutex;
+
+use low_level::{AvoidanceTable, Constraint, Constraints, Found, NoPath, Query, focal_search};
+use mdd::Mdd;
+use mrpp_core::mapf::search::distance::{UNREACHABLE, goal_distance_tables};
+use mrpp_core::{
+    Ctx, GoalSemantics, MapfProblem, Param, Plan, Planner, PlannerEntry, Progress, Unsolved,
+    VertexId,
+};
+
+/// Registry name of CBS.
+pub const CBS_NAME: &str = "cbs";
+/// Registry name of EECBS.
+pub const EECBS_NAME: &str = "eecbs";
+
+/// CBS in the planner registry.
+pub const CBS_ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
+    name: CBS_NAME,
+    about: "CBS with ICBS's MDD conflict prioritisation and bypass (Sharon et al., AIJ 2015; Boyarski et al., IJCAI 2015); optimal sum of costs",
+    params: &[
+        Param {
+            name: "prioritize",
+            default: "true",
+            doc: "choose cardinal, then semi-cardinal conflicts by MDDs (false: the earliest conflict)",
+        },
+        Param {
+            name: "bypass",
+            default: "true",
+            doc: "adopt a child's path of equal cost with fewer conflicts instead of splitting",
+        },
+    ],
+    build: |p| {
+        Ok(Box::new(Cbs::new(Settings {
+            w: 1.0,
+            explicit_estimation: false,
+            prioritize: p.choice("prioritize", &["false", "true"])? == 1,
+            bypass: p.choice("bypass", &["false", "true"])? == 1,
+        })))
+    },
+};
+
+/// EECBS in the planner registry.
+pub const EECBS_ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
+    name: EECBS_NAME,
+    about: "EECBS: explicit estimation CBS with focal low levels (Li, Ruml, Koenig, AAAI 2021); sum of costs <= w x optimal",
+    params: &[
+        Param {
+            name: "w",
+            default: "1.2",
+            doc: "suboptimality bound (>= 1; 1 = optimal)",
+        },
+        Param {
+            name: "bypass",
+            default: "true",
+            doc: "adopt a child's path of no greater cost with fewer conflicts instead of splitting",
+        },
+    ],
+    build: |p| {
+        let w: f64 = p.get_in("w", 1.0..=1000.0)?;
+        Ok(Box::new(Cbs::new(Settings {
+            w,
+            explicit_estimation: true,
+            prioritize: w == 1.0,
+            bypass: p.choice("bypass", &["false", "true"])? == 1,
+        })))
+    },
+};
+
+/// How the search runs.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Settings {
+    /// Suboptimality bound (1 = optimal).
+    pub w: f64,
+    /// EECBS's three-list selection (false: CBS's best-first order).
+    pub explicit_estimation: bool,
+    /// MDD-based conflict prioritisation (only meaningful with optimal low levels, `w = 1`).
+    pub prioritize: bool,
+    pub bypass: bool,
+}
+
+/// CBS or EECBS, by [`Settings`].
+#[derive(Debug)]
+pub struct Cbs {
+    pub settings: Settings,
+    last: Mutex<Option<Report>>,
+}
+
+/// What a run reports beside its plan.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Report {
+    pub expanded: u64,
+    pub generated: u64,
+    /// Proven lower bound on the optimal sum of costs when the plan was found.
+    pub lower_bound: u64,
+}
+
+impl Cbs {
+    pub fn new(settings: Settings) -> Self {
+        Cbs {
+            settings,
+            last: Mutex::new(None),
+        }
+    }
+
+    /// CBS with both ICBS improvements.
+    pub fn optimal() -> Self {
+        Cbs::new(Settings {
+            w: 1.0,
+            explicit_estimation: false,
+            prioritize: true,
+            bypass: true,
+        })
+    }
+
+    /// EECBS with weight `w`.
+    pub fn eecbs(w: f64) -> Self {
+        Cbs::new(Settings {
+            w,
+            explicit_estimation: true,
+            prioritize: w == 1.0,
+            bypass: true,
+        })
+    }
+
+    /// The report of the last successful run.
+    pub fn report(&self) -> Option<Report> {
+        *self.last.lock().unwrap_or_else(|e| e.into_inner())
+    }
+}
+
+impl Planner<MapfProblem> for Cbs {
+    fn name(&self) -> &str {
+        if self.settings.explicit_estimation {
+            EECBS_NAME
+        } else {
+            CBS_NAME
+        }
+    }
+
+    fn plan(&self, problem: &MapfProblem, ctx: &Ctx) -> Result<Plan, Unsolved> {
+        let rules = problem.rules();
+        if rules.semantics != GoalSemantics::Stay || !rules.allow_following {
+            return Err(Unsolved::GaveUp(
+                "CBS handles the grid rules only (stay at the goal, following allowed)".into(),
+            ));
+        }
+        let (paths, report) = Search::new(problem, self.settings, ctx)?.run()?;
+        *self.last.lock().unwrap_or_else(|e| e.into_inner()) = Some(report);
+        Ok(Plan {
+            paths: paths.iter().map(|p| p.to_vec()).collect(),
+        })
+    }
+
+    /// `expanded`, `generated` (constraint-tree nodes) and `lower_bound` of the last plan.
+    fn notes(&self) -> serde_json::Map<String, serde_json::Value> {
+        let mut m = serde_json::Map::new();
+        if let Some(r) = self.report() {
+            m.insert("expanded".into(), r.expanded.into());
+            m.insert("generated".into(), r.generated.into());
+            m.insert("lower_bound".into(), r.lower_bound.into());
+        }
+        m
+    }
+}
+
+/// A shared path.
+type Path = Rc<Vec<VertexId>>;
+
+/// A conflict between agents `a < b` at step `t`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Conflict {
+    a: usize,
+    b: usize,
+    t: u32,
+    kind: Kind,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Kind {
+    Vertex(VertexId),
+    /// `a` moves `u -> v` while `b` moves `v -> u`.
+    Edge(VertexId, VertexId),
+}
+
+fn at(path: &[VertexId], t: usize) -> VertexId {
+    path[t.min(path.len() - 1)]
+}
+
+/// The earliest conflict between the paths of `a < b`.
+fn first_conflict(a: usize, pa: &[VertexId], b: usize, pb: &[VertexId]) -> Option<Conflict> {
+    let horizon = pa.len().max(pb.len());
+    for t in 0..horizon {
+        let (va, vb) = (at(pa, t), at(pb, t));
+        if va == vb {
+            return Some(Conflict {
+                a,
+                b,
+                t: t as u32,
+                kind: Kind::Vertex(va),
+            });
+        }
+        if t > 0 && va == at(pb, t - 1) && vb == at(pa, t - 1) {
+            return Some(Conflict {
+                a,
+                b,
+                t: t as u32,
+                kind: Kind::Edge(vb, va),
+            });
+        }
+    }
+    None
+}
+
+/// A constraint-tree node.
+struct Node {
+    parent: u32,
+    /// The constraint this node added (none at the root).
+    added: Option<(usize, Constraint)>,
+    paths: Vec<Rc<Vec<VertexId>>>,
+    lbs: Vec<u64>,
+    cost: u64,
+    lb: u64,
+    conflicts: Vec<Conflict>,
+    h_hat: f64,
+    mdds: Vec<Option<Rc<Mdd>>>,
+}
+
+impl Node {
+    fn f_hat(&self) -> f64 {
+        self.cost as f64 + self.h_hat
+    }
+}
+
+/// One run's state.
+struct Search<'a> {
+    problem: &'a MapfProblem,
+    settings: Settings,
+    ctx: &'a Ctx,
+    dist: Vec<Vec<u32>>,
+    nodes: Vec<Node>,
+    expanded: u64,
+    /// Running sums of EECBS's one-step errors, and their count.
+    err_h: f64,
+    err_d: f64,
+    err_n: f64,
+}
+
+/// A child that could not be made.
+enum Child {
+    Made(Node),
+    Infeasible,
+}
+
+impl<'a> Search<'a> {
+    fn new(problem: &'a MapfProblem, settings: Settings, ctx: &'a Ctx) -> Result<Self, Unsolved> {
+        let inst = problem.instance();
+        let dist = goal_distance_tables(problem.graph(), &inst.goals);
+        if let Some(i) =
+            (0..inst.num_agents()).find(|&i| dist[i][inst.starts[i] as usize] == UNREACHABLE)
+        {
+            return Err(Unsolved::GaveUp(format!("agent {i} cannot reach its goal")));
+        }
+        Ok(Search {
+            problem,
+            settings,
+            ctx,
+            dist,
+            nodes: Vec::new(),
+            expanded: 0,
+            err_h: 0.0,
+            err_d: 0.0,
+            err_n: 0.0,
+        })
+    }
+
+    fn n(&self) -> usize {
+        self.problem.instance().num_agents()
+    }
+
+    /// The constraints on agent `i` at node `k` (the chain back to the root).
+    fn constraints_of(&self, mut k: u32, i: usize) -> Vec<Constraint> {
+        let mut out = Vec::new();
+        while k != u32::MAX {
+            let node = &self.nodes[k as usize];
+            if let Some((j, c)) = node.added
+                && j == i
+            {
+                out.push(c);
+            }
+            k = node.parent;
+        }
+        out
+    }
+
+    /// Plans agent `i` under `list` against `paths` (the other agents' paths for tie-breaking).
+    fn plan_agent(
+        &self,
+        i: usize,
+        list: &[Constraint],
+        paths: &[Rc<Vec<VertexId>>],
+    ) -> Result<Option<Found>, Unsolved> {
+        let inst = self.problem.instance();
+        let constraints = Constraints::new(inst.goals[i], list);
+        let avoid = AvoidanceTable::new(paths, i);
+        let d = &self.dist[i];
+        let h = |v: VertexId| d[v as usize];
+        match focal_search(&Query {
+            graph: self.problem.graph(),
+            start: inst.starts[i],
+            goal: inst.goals[i],
+            h: &h,
+            constraints: &constraints,
+            avoid: &avoid,
+            w: self.settings.w,
+            deadline: self.ctx.deadline,
+        }) {
+            Ok(found) => Ok(Some(found)),
+            Err(NoPath::None) => Ok(None),
+            Err(NoPath::TimedOut) => Err(Unsolved::TimeLimit),
+        }
+    }
+
+    fn root(&mut self) -> Result<Node, Unsolved> {
+        let n = self.n();
+        let mut paths: Vec<Rc<Vec<VertexId>>> = (0..n).map(|_| Rc::new(Vec::new())).collect();
+        let mut lbs = vec![0u64; n];
+        for i in 0..n {
+            let found = self
+                .plan_agent(i, &[], &paths)?
+                .ok_or_else(|| Unsolved::GaveUp(format!("agent {i} cannot reach its goal")))?;
+            paths[i] = Rc::new(found.path);
+            lbs[i] = found.lower_bound;
+        }
+        let mut conflicts = Vec::new();
+        for a in 0..n {
+            for b in a + 1..n {
+                conflicts.extend(first_conflict(a, &paths[a], b, &paths[b]));
+            }
+        }
+        let cost = paths.iter().map(|p| p.len() as u64 - 1).sum();
+        let lb = lbs.iter().sum();
+        Ok(Node {
+            parent: u32::MAX,
+            added: None,
+            paths,
+            lbs,
+            cost,
+            lb,
+            h_hat: 0.0,
+            conflicts,
+            mdds: vec![None; n],
+        })
+    }
+
+    /// The child of node `k` with constraint `c` on agent `i`.
+    fn child(&self, k: u32, i: usize, c: Constraint) -> Result<Child, Unsolved> {
+        let parent = &self.nodes[k as usize];
+        let mut list = self.constraints_of(k, i);
+        list.push(c);
+        let Some(found) = self.plan_agent(i, &list, &parent.paths)? else {
+            return Ok(Child::Infeasible);
+        };
+        let mut paths = parent.paths.clone();
+        paths[i] = Rc::new(found.path);
+        let mut lbs = parent.lbs.clone();
+        // A node's bound never drops below its parent's for this agent.
+        lbs[i] = found.lower_bound.max(parent.lbs[i]);
+        let mut conflicts: Vec<Conflict> = parent
+            .conflicts
+            .iter()
+            .copied()
+            .filter(|x| x.a != i && x.b != i)
+            .collect();
+        for j in (0..paths.len()).filter(|&j| j != i) {
+            let (a, b) = (i.min(j), i.max(j));
+            conflicts.extend(first_conflict(a, &paths[a], b, &paths[b]));
+        }
+        let cost = paths.iter().map(|p| p.len() as u64 - 1).sum();
+        let lb = lbs.iter().sum();
+        let mut mdds = parent.mdds.clone();
+        mdds[i] = None;
+        Ok(Child::Made(Node {
+            parent: k,
+            added: Some((i, c)),
+            paths,
+            lbs,
+            cost,
+            lb,
+            conflicts,
+            h_hat: 0.0,
+            mdds,
+        }))
+    }
+
+    /// The MDD of agent `i` at node `k` (built on first use).
+    fn mdd(&mut self, k: u32, i: usize) -> Rc<Mdd> {
+        if let Some(m) = &self.nodes[k as usize].mdds[i] {
+            return m.clone();
+        }
+        let inst = self.problem.instance();
+        let list = self.constraints_of(k, i);
+        let constraints = Constraints::new(inst.goals[i], &list);
+        let cost = self.nodes[k as usize].paths[i].len() as u32 - 1;
+        let d = &self.dist[i];
+        let m = Rc::new(Mdd::build(
+            self.problem.graph(),
+            inst.starts[i],
+            inst.goals[i],
+            cost,
+            &|v| d[v as usize],
+            &constraints,
+        ));
+        self.nodes[k as usize].mdds[i] = Some(m.clone());
+        m
+    }
+
+    /// Whether agent `x` of conflict `c` at node `k` cannot avoid it without a higher cost.
+    fn cardinal_for(&mut self, k: u32, c: &Conflict, x: usize) -> bool {
+        let cost = self.nodes[k as usize].paths[x].len() as u32 - 1;
+        let mdd = self.mdd(k, x);
+        match c.kind {
+            Kind::Vertex(_) => c.t >= cost || mdd.singleton(c.t),
+            Kind::Edge(..) => mdd.singleton(c.t - 1) && mdd.singleton(c.t),
+        }
+    }
+
+    /// The conflict to split at node `k`: cardinal, then semi-cardinal, then any (earliest
+    /// first), or simply the earliest without prioritisation.
+    fn choose(&mut self, k: u32) -> Conflict {
+        let mut conflicts = self.nodes[k as usize].conflicts.clone();
+        conflicts.sort_by_key(|c| (c.t, c.a, c.b));
+        if !self.settings.prioritize {
+            return conflicts[0];
+        }
+        let mut best: Option<(u8, Conflict)> = None;
+        for c in conflicts {
+            let rank = 2
+                - u8::from(self.cardinal_for(k, &c, c.a))
+                - u8::from(self.cardinal_for(k, &c, c.b));
+            if best.is_none_or(|(r, _)| rank < r) {
+                best = Some((rank, c));
+                if rank == 0 {
+                    break;
+                }
+            }
+        }
+        best.expect("a node with conflicts").1
+    }
+
+    /// The two constraints that split conflict `c`.
+    fn split(c: &Conflict) -> [(usize, Constraint); 2] {
+        match c.kind {
+            Kind::Vertex(v) => [
+                (c.a, Constraint::Vertex { v, t: c.t }),
+                (c.b, Constraint::Vertex { v, t: c.t }),
+            ],
+            Kind::Edge(u, v) => [
+                (c.a, Constraint::Edge { u, v, t: c.t }),
+                (c.b, Constraint::Edge { u: v, v: u, t: c.t }),
+            ],
+        }
+    }
+
+    /// Expands node `k`: its children (after any bypasses, which change `k` in place), or
+    /// `Ok(None)` when a bypass left `k` without conflicts (a solution).
+    fn expand(&mut self, k: u32) -> Result<Option<Vec<Node>>, Unsolved> {
+        'again: loop {
+            if self.nodes[k as usize].conflicts.is_empty() {
+                return Ok(None);
+            }
+            self.expanded += 1;
+            let c = self.choose(k);
+            let mut children = Vec::new();
+            for (i, constraint) in Self::split(&c) {
+                let Child::Made(child) = self.child(k, i, constraint)? else {
+                    continue;
+                };
+                let parent = &self.nodes[k as usize];
+                if self.settings.bypass
+                    && child.cost <= parent.cost
+                    && child.conflicts.len() < parent.conflicts.len()
+                {
+                    let parent = &mut self.nodes[k as usize];
+                    parent.paths[i] = child.paths[i].clone();
+                    parent.cost = child.cost;
+                    parent.conflicts = child.conflicts;
+                    parent.mdds[i] = None;
+                    continue 'again;
+                }
+                children.push(child);
+            }
+            return Ok(Some(children));
+        }
+    }
+
+    /// EECBS's online estimate for a node with `d` conflicts.
+    fn h_hat(&self, d: usize) -> f64 {
+        if self.err_n == 0.0 {
+            return 0.0;
+        }
+        let (eh, ed) = (self.err_h / self.err_n, self.err_d / self.err_n);
+        d as f64 * eh.max(0.0) / (1.0 - ed).max(0.1)
+    }
+
+    fn run(mut self) -> Result<(Vec<Path>, Report), Unsolved> {
+        let root = self.root()?;
+        self.nodes.push(root);
+        let w = self.settings.w;
+        // CBS: min-heap on (cost, conflicts, id). EECBS: CLEANUP by LB, OPEN by f̂.
+        let mut heap: BinaryHeap<std::cmp::Reverse<(u64, usize, u32)>> = BinaryHeap::new();
+        let mut cleanup: BTreeSet<(u64, u32)> = BTreeSet::new();
+        let mut open: BTreeSet<(u64, u32)> = BTreeSet::new();
+        let push = |s: &Self,
+                    id: u32,
+                    heap: &mut BinaryHeap<_>,
+                    cleanup: &mut BTreeSet<_>,
+                    open: &mut BTreeSet<_>| {
+            let n = &s.nodes[id as usize];
+            if s.settings.explicit_estimation {
+                cleanup.insert((n.lb, id));
+                open.insert((n.f_hat().to_bits(), id));
+            } else {
+                heap.push(std::cmp::Reverse((n.cost, n.conflicts.len(), id)));
+            }
+        };
+        push(&self, 0, &mut heap, &mut cleanup, &mut open);
+        loop {
+            if self.ctx.deadline.expired() {
+                return Err(Unsolved::TimeLimit);
+            }
+            let k = if self.settings.explicit_estimation {
+                let Some(&(lb_min, best_lb)) = cleanup.first() else {
+                    break;
+                };
+                let &(f_bits, best_f) = open.first().expect("same nodes as CLEANUP");
+                let focal_bound = f64::from_bits(f_bits) * w;
+                let best_d = open
+                    .iter()
+                    .take_while(|&&(f, _)| f64::from_bits(f) <= focal_bound + 1e-9)
+                    .map(|&(_, id)| {
+                        (
+                            self.nodes[id as usize].conflicts.len(),
+                            self.nodes[id as usize].f_hat().to_bits(),
+                            id,
+                        )
+                    })
+                    .min()
+                    .map(|(_, _, id)| id)
+                    .expect("the first of OPEN is in FOCAL");
+                let within =
+                    |id: u32| self.nodes[id as usize].cost as f64 <= w * lb_min as f64 + 1e-9;
+                let k = if within(best_d) {
+                    best_d
+                } else if within(best_f) {
+                    best_f
+                } else {
+                    best_lb
+                };
+                let n = &self.nodes[k as usize];
+                cleanup.remove(&(n.lb, k));
+                open.remove(&(n.f_hat().to_bits(), k));
+                k
+            } else {
+                let Some(std::cmp::Reverse((_, _, k))) = heap.pop() else {
+                    break;
+                };
+                k
+            };
+            if self.expanded.is_multiple_of(256) {
+                self.ctx.report(Progress {
+                    stage: "constraint-tree nodes",
+                    done: self.expanded,
+                    total: 0,
+                    note: format!("sum of costs >= {}", self.nodes[k as usize].lb),
+                });
+            }
+            let lower_bound = if self.settings.explicit_estimation {
+                cleanup
+                    .first()
+                    .map_or(self.nodes[k as usize].lb, |&(lb, _)| {
+                        lb.min(self.nodes[k as usize].lb)
+                    })
+            } else {
+                self.nodes[k as usize].cost
+            };
+            let Some(children) = self.expand(k)? else {
+                let report = Report {
+                    expanded: self.expanded,
+                    generated: self.nodes.len() as u64,
+                    lower_bound,
+                };
+                let node = &self.nodes[k as usize];
+                return Ok((node.paths.clone(), report));
+            };
+            if self.settings.explicit_estimation
+                && let Some(best) = children.iter().min_by_key(|c| (c.cost, c.conflicts.len()))
+            {
+                let parent = &self.nodes[k as usize];
+                self.err_h += best.cost as f64 - parent.cost as f64;
+                self.err_d += best.conflicts.len() as f64 - (parent.conflicts.len() as f64 - 1.0);
+                self.err_n += 1.0;
+            }
+            for mut child in children {
+                child.h_hat = self.h_hat(child.conflicts.len());
+                let id = self.nodes.len() as u32;
+                self.nodes.push(child);
+                push(&self, id, &mut heap, &mut cleanup, &mut open);
+            }
+        }
+        Err(Unsolved::GaveUp(
+            "every constraint set was refuted: the instance has no solution".into(),
+        ))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use mrpp_core::mapf::graph::Graph;
+    use mrpp_core::{Deadline, Instance, Rules, solve};
+
+    #[test]
+    fn plus_needs_one_split_and_costs_five() {
+        // Baselines §7: the plus, centre 0, W=1 E=2 N=3 S=4; W->E and S->N.
+        let g = Graph::from_edges(5, &[(0, 1), (0, 2), (0, 3), (0, 4)]);
+        let inst = Instance::new(vec![1, 4], vec![2, 3]).unwrap();
+        let p = MapfProblem::on(&g, &inst, Rules::default());
+        for planner in [Cbs::optimal(), Cbs::eecbs(1.0), Cbs::eecbs(1.5)] {
+            let s = solve(&planner, &p, &Ctx::new(0, Deadline::none())).unwrap();
+            assert_eq!(s.metrics.sum_of_costs, 5, "{}", planner.name());
+        }
+        let cbs = Cbs::optimal();
+        solve(&cbs, &p, &Ctx::default()).unwrap();
+        assert_eq!(cbs.report().unwrap().expanded, 1);
+    }
+}
