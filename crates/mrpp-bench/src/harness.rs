@@ -178,21 +178,30 @@ pub fn threads() -> usize {
     rayon::current_num_threads()
 }
 
-/// Runs the jobs of `shard` in parallel; `tick` is called after each job (from any thread).
-/// Returns `(job number, row)` in job order and the wall time in seconds.
+/// Runs the jobs of `shard` in parallel, except those already in `previous` (rows of an
+/// interrupted run, see [`read_progress`]), which are kept as they are. `tick` is called after
+/// each job and `sink` receives each new row as soon as it exists (from any thread; e.g. to
+/// append it to a progress file). Returns every row of the shard, `(job number, row)` in job
+/// order, and the wall time in seconds of the jobs run now.
 pub fn run_shard<S: Sweep>(
     sweep: &S,
     shard: Shard,
+    previous: Numbered<S::Row>,
     tick: &(dyn Fn(Tick) + Sync),
+    sink: &(dyn Fn(usize, &S::Row) -> Result<()> + Sync),
 ) -> Result<(Numbered<S::Row>, f64)> {
     let started = Instant::now();
-    let mine: Vec<usize> = (0..sweep.jobs().len()).filter(|&j| shard.owns(j)).collect();
+    let have: std::collections::BTreeSet<usize> = previous.iter().map(|(j, _)| *j).collect();
+    let mine: Vec<usize> = (0..sweep.jobs().len())
+        .filter(|&j| shard.owns(j) && !have.contains(&j))
+        .collect();
     let done = std::sync::atomic::AtomicUsize::new(0);
-    let rows = mine
+    let mut rows = mine
         .par_iter()
         .map(|&j| {
             let job = &sweep.jobs()[j];
             let row = sweep.run(job)?;
+            sink(j, &row)?;
             let n = done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
             tick(Tick {
                 done: n,
@@ -202,7 +211,75 @@ pub fn run_shard<S: Sweep>(
             Ok((j, row))
         })
         .collect::<Result<Vec<_>>>()?;
+    rows.extend(previous);
+    rows.sort_by_key(|(j, _)| *j);
     Ok((rows, started.elapsed().as_secs_f64()))
+}
+
+/// The progress file of a shard's run in its output folder: one line per finished job, written
+/// as the job finishes, so an interrupted run keeps its work and resumes from it.
+pub fn progress_file(shard: Shard) -> String {
+    format!("progress-{}-of-{}.jsonl", shard.index, shard.count)
+}
+
+/// One line of a progress file.
+pub fn progress_line<S: Sweep>(sweep: &S, job: usize, row: &S::Row) -> String {
+    json(&PartLine {
+        job,
+        key: sweep.key(&sweep.jobs()[job]),
+        row,
+    }) + "\n"
+}
+
+/// The rows of an earlier run of `shard` recorded in `path` (empty when the file does not
+/// exist). A last line cut short by an interruption is dropped.
+///
+/// # Errors
+/// [`Error::Parse`] naming the line when a line belongs to another sweep or shard (its job
+/// number and key disagree with this sweep's) or is repeated.
+pub fn read_progress<S: Sweep>(sweep: &S, shard: Shard, path: &Path) -> Result<Numbered<S::Row>> {
+    let text = match std::fs::read_to_string(path) {
+        Ok(t) => t,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(Vec::new()),
+        Err(e) => {
+            return Err(Error::Io {
+                path: path.to_path_buf(),
+                source: e,
+            });
+        }
+    };
+    let lines: Vec<&str> = text.lines().collect();
+    let mut rows = Vec::new();
+    let mut seen = std::collections::BTreeSet::new();
+    for (k, line) in lines.iter().enumerate() {
+        let parsed: std::result::Result<PartLine<S::Row>, _> = serde_json::from_str(line);
+        let part = match parsed {
+            Ok(p) => p,
+            // A line cut short by an interruption (only the last one can be).
+            Err(_) if k + 1 == lines.len() && !text.ends_with('\n') => break,
+            Err(e) => return Err(Error::parse(path, k + 1, e.to_string())),
+        };
+        let expected = sweep.jobs().get(part.job).map(|j| sweep.key(j));
+        if expected.as_deref() != Some(part.key.as_str()) || !shard.owns(part.job) {
+            return Err(Error::parse(
+                path,
+                k + 1,
+                format!(
+                    "job {} `{}` is not job {} of this sweep's shard {shard}: the folder holds another sweep (use another --out)",
+                    part.job, part.key, part.job
+                ),
+            ));
+        }
+        if !seen.insert(part.job) {
+            return Err(Error::parse(
+                path,
+                k + 1,
+                format!("job {} is recorded twice", part.job),
+            ));
+        }
+        rows.push((part.job, part.row));
+    }
+    Ok(rows)
 }
 
 /// One line of a part file.
@@ -453,12 +530,13 @@ mod tests {
     #[test]
     fn shards_cover_every_job_once_and_merge_to_the_whole() {
         let sweep = Squares((0..10).collect());
-        let (whole, _) = run_shard(&sweep, Shard::ALL, &|_| {}).unwrap();
+        let (whole, _) =
+            run_shard(&sweep, Shard::ALL, Vec::new(), &|_| {}, &|_, _| Ok(())).unwrap();
         let dir = std::env::temp_dir().join(format!("mrpp-harness-{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         for i in 1..=3 {
             let shard: Shard = format!("{i}/3").parse().unwrap();
-            let (rows, _) = run_shard(&sweep, shard, &|_| {}).unwrap();
+            let (rows, _) = run_shard(&sweep, shard, Vec::new(), &|_| {}, &|_, _| Ok(())).unwrap();
             assert!(rows.iter().all(|(j, _)| j % 3 == i - 1));
             for (name, text) in
                 outputs(&sweep, &rows, shard, &manifest(&shard.to_string())).unwrap()
@@ -478,5 +556,39 @@ mod tests {
         assert!(e.contains("jobs are in no part"), "{e}");
         assert!("0/3".parse::<Shard>().is_err() && "4/3".parse::<Shard>().is_err());
         let _ = std::fs::remove_dir_all(&dir);
+    }
+
+    #[test]
+    fn an_interrupted_run_resumes_from_its_progress_file() {
+        let sweep = Squares((0..10).collect());
+        let (whole, _) =
+            run_shard(&sweep, Shard::ALL, Vec::new(), &|_| {}, &|_, _| Ok(())).unwrap();
+        let path = std::env::temp_dir().join(format!("mrpp-progress-{}.jsonl", std::process::id()));
+        // Jobs 0..4 finished; the line of job 4 was cut short.
+        let mut text: String = whole[..4]
+            .iter()
+            .map(|(j, r)| progress_line(&sweep, *j, r))
+            .collect();
+        text.push_str(&progress_line(&sweep, 4, &whole[4].1)[..5]);
+        std::fs::write(&path, &text).unwrap();
+        let previous = read_progress(&sweep, Shard::ALL, &path).unwrap();
+        assert_eq!(previous.len(), 4);
+        let ran = std::sync::Mutex::new(Vec::new());
+        let (rows, _) = run_shard(&sweep, Shard::ALL, previous, &|_| {}, &|j, _| {
+            ran.lock().unwrap().push(j);
+            Ok(())
+        })
+        .unwrap();
+        assert_eq!(rows, whole);
+        let mut ran = ran.into_inner().unwrap();
+        ran.sort();
+        assert_eq!(ran, (4..10).collect::<Vec<_>>());
+        // A file of another sweep is refused, naming its line.
+        std::fs::write(&path, progress_line(&Squares(vec![7, 8]), 1, &64)).unwrap();
+        let e = read_progress(&sweep, Shard::ALL, &path)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(":1:") && e.contains("another sweep"), "{e}");
+        let _ = std::fs::remove_file(&path);
     }
 }

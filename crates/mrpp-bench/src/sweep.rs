@@ -17,11 +17,26 @@
 //! [[planners]]
 //! name = "whca"
 //! params = { window = "8" }
+//!
+//! [[peers]]               # an external solver, run as a shell command per job
+//! name = "lacam0"
+//! command = "/path/to/lacam0/build/main -m {map} -i {scen} -N {agents} -s {seed} -t {time_limit} -o {out}"
 //! ```
 //!
-//! Job key: `<map>/<scen>/a<agents>/<planner>[;k=v...]/<run>` (file stems). Pages: `results.csv`
-//! (the records) and `summary.md` (per instance and planner: runs solved, mean sum of costs,
-//! mean makespan and mean runtime over the solved runs).
+//! A *peer* is any solver that writes the LaCAM text result (`solved=`, `starts=`, `goals=`,
+//! `solution=`): the placeholders `{map}`, `{scen}`, `{agents}`, `{seed}` (the job's seed modulo
+//! 2^31), `{time_limit}` (seconds) and `{out}` (a fresh file) are filled in (paths shell-quoted)
+//! and the command runs under `sh -c`, killed after twice the time limit plus 10 s. Its result is
+//! read, checked to be for the same agents, and validated like mrpp's own plans; its runtime is
+//! the file's `comp_time` (ms) when present, else the command's wall time. A peer's missing or
+//! unreadable result is `gave_up`; a result the validator rejects is `invalid` (a peer's bug is
+//! recorded, not fatal).
+//!
+//! Job key: `<map>/<scen>/a<agents>/<planner>[;k=v...]/<run>` (file stems). Pages: `records.csv`
+//! (the records), `summary.md` (per instance and planner: runs solved, mean sum of costs, mean
+//! makespan and mean runtime over the solved runs; per map, agent count and solver: success rate
+//! and median runtime), `success.svg` (success rate against agents, one panel per map) and
+//! `runtime.svg` (median runtime of the solved runs against agents).
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
@@ -34,7 +49,7 @@ use crate::harness::{Manifest, RunRecord, Sweep, params_text};
 use mrpp_core::error::{Error, Result, read_file};
 use mrpp_core::registry::find;
 use mrpp_core::seeds::derive_seed;
-use mrpp_core::{Ctx, Deadline, MapfProblem, Params, Planner, Unsolved, solve};
+use mrpp_core::{Ctx, Deadline, MapfProblem, Params, Planner, Problem, Unsolved, accept, solve};
 
 /// A sweep as data (TOML or flags).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -50,7 +65,76 @@ pub struct SweepConfig {
     #[serde(default = "ten")]
     pub time_limit: f64,
     pub instances: Vec<InstanceSpec>,
+    #[serde(default)]
     pub planners: Vec<PlannerSpec>,
+    /// External solvers run as commands (module doc).
+    #[serde(default)]
+    pub peers: Vec<PeerSpec>,
+}
+
+/// An external solver: a name and a command template (module doc).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PeerSpec {
+    pub name: String,
+    pub command: String,
+}
+
+impl std::str::FromStr for PeerSpec {
+    type Err = String;
+    /// `name=command template`.
+    fn from_str(s: &str) -> std::result::Result<Self, String> {
+        match s.split_once('=') {
+            Some((name, command)) if !name.trim().is_empty() && !command.trim().is_empty() => {
+                Ok(PeerSpec {
+                    name: name.trim().to_string(),
+                    command: command.to_string(),
+                })
+            }
+            _ => Err(format!(
+                "expected a peer `name=command template`, e.g. `lacam0=/path/main -m {{map}} -i {{scen}} -N {{agents}} -s {{seed}} -t {{time_limit}} -o {{out}}`, got `{s}`"
+            )),
+        }
+    }
+}
+
+/// The placeholders a peer's command may use.
+const PLACEHOLDERS: [&str; 6] = ["map", "scen", "agents", "seed", "time_limit", "out"];
+
+impl PeerSpec {
+    /// Checks the template's placeholders.
+    fn check(&self) -> Result<()> {
+        let mut rest = self.command.as_str();
+        while let Some(open) = rest.find('{') {
+            let close = rest[open..].find('}').ok_or_else(|| {
+                Error::Param(format!(
+                    "peer `{}`: an unclosed `{{` in its command",
+                    self.name
+                ))
+            })?;
+            let name = &rest[open + 1..open + close];
+            if !PLACEHOLDERS.contains(&name) {
+                return Err(Error::Param(format!(
+                    "peer `{}`: unknown placeholder `{{{name}}}` (known: {})",
+                    self.name,
+                    PLACEHOLDERS.map(|p| format!("{{{p}}}")).join(", ")
+                )));
+            }
+            rest = &rest[open + close + 1..];
+        }
+        if !self.command.contains("{out}") {
+            return Err(Error::Param(format!(
+                "peer `{}`: its command must write its result to `{{out}}`",
+                self.name
+            )));
+        }
+        Ok(())
+    }
+}
+
+/// `s` quoted for `sh`.
+fn shell_quote(s: &str) -> String {
+    format!("'{}'", s.replace('\'', "'\\''"))
 }
 
 fn default_name() -> String {
@@ -136,7 +220,27 @@ impl SweepConfig {
 struct Loaded {
     /// `<map stem>/<scen stem>/a<agents>`.
     name: String,
+    /// The map's file stem (figures have one panel per map).
+    map_name: String,
+    map: mrpp_grid::GridMap,
+    map_path: PathBuf,
+    scen_path: PathBuf,
     problem: MapfProblem,
+}
+
+/// Who solves a job: a registered planner or a peer.
+enum Solver {
+    Own(Built),
+    Peer(PeerSpec),
+}
+
+impl Solver {
+    fn label(&self) -> &str {
+        match self {
+            Solver::Own(b) => &b.label,
+            Solver::Peer(p) => &p.name,
+        }
+    }
 }
 
 /// One planner of the sweep, built.
@@ -150,7 +254,7 @@ struct Built {
 pub struct GridSweep {
     pub cfg: SweepConfig,
     instances: Vec<Loaded>,
-    planners: Vec<Built>,
+    planners: Vec<Solver>,
     jobs: Vec<(usize, usize, usize)>,
 }
 
@@ -175,17 +279,38 @@ impl GridSweep {
                 spec.agents.iter().map(|&n| Some(n)).collect()
             };
             for n in counts {
-                let (_, problem) = mrpp_grid::load_problem(&spec.map, &spec.scen, n)?;
+                let (map, problem) = mrpp_grid::load_problem(&spec.map, &spec.scen, n)?;
                 let name = format!(
                     "{}/{}/a{}",
                     stem(&spec.map),
                     stem(&spec.scen),
                     problem.instance().num_agents()
                 );
-                instances.push(Loaded { name, problem });
+                instances.push(Loaded {
+                    name,
+                    map_name: stem(&spec.map),
+                    map,
+                    map_path: spec.map.clone(),
+                    scen_path: spec.scen.clone(),
+                    problem,
+                });
             }
         }
-        let planners = cfg.planners.iter().map(build).collect::<Result<Vec<_>>>()?;
+        let mut planners = cfg
+            .planners
+            .iter()
+            .map(|p| build(p).map(Solver::Own))
+            .collect::<Result<Vec<_>>>()?;
+        for peer in &cfg.peers {
+            peer.check()?;
+            if planners.iter().any(|s| s.label() == peer.name) {
+                return Err(Error::Param(format!(
+                    "`{}` names two solvers of the sweep",
+                    peer.name
+                )));
+            }
+            planners.push(Solver::Peer(peer.clone()));
+        }
         let (i, p, r) = (instances.len(), planners.len(), cfg.runs);
         let jobs = (0..i)
             .flat_map(|i| (0..p).flat_map(move |p| (0..r).map(move |r| (i, p, r))))
@@ -212,9 +337,9 @@ fn check(cfg: &SweepConfig) -> Result<()> {
             cfg.time_limit
         )));
     }
-    if cfg.instances.is_empty() || cfg.planners.is_empty() {
+    if cfg.instances.is_empty() || (cfg.planners.is_empty() && cfg.peers.is_empty()) {
         return Err(Error::Param(
-            "a sweep needs at least one instance and one planner".into(),
+            "a sweep needs at least one instance and one planner or peer".into(),
         ));
     }
     Ok(())
@@ -261,13 +386,20 @@ impl Sweep for GridSweep {
     }
 
     fn key(&self, &(i, p, r): &(usize, usize, usize)) -> String {
-        format!("{}/{}/{r}", self.instances[i].name, self.planners[p].label)
+        format!(
+            "{}/{}/{r}",
+            self.instances[i].name,
+            self.planners[p].label()
+        )
     }
 
     fn run(&self, job: &(usize, usize, usize)) -> Result<RunRecord> {
         let (i, p, run) = *job;
         let seed = derive_seed(self.cfg.seed, &self.key(job));
-        let b = &self.planners[p];
+        let b = match &self.planners[p] {
+            Solver::Own(b) => b,
+            Solver::Peer(peer) => return Ok(self.run_peer(peer, i, run, seed)),
+        };
         let ctx = Ctx::new(
             seed,
             Deadline::after(Duration::from_secs_f64(self.cfg.time_limit)),
@@ -304,7 +436,12 @@ impl Sweep for GridSweep {
     }
 
     fn pages(&self, rows: &[&RunRecord], m: &Manifest) -> Result<Vec<(String, String)>> {
-        Ok(vec![("summary.md".into(), self.summary_page(rows, m))])
+        let (success, runtime) = self.figures(rows)?;
+        Ok(vec![
+            ("summary.md".into(), self.summary_page(rows, m)),
+            ("success.svg".into(), success),
+            ("runtime.svg".into(), runtime),
+        ])
     }
 
     fn summary(&self, rows: &[&RunRecord]) -> String {
@@ -327,11 +464,7 @@ impl GridSweep {
             for b in &self.planners {
                 let mine: Vec<&&RunRecord> = rows
                     .iter()
-                    .filter(|r| {
-                        r.instance == inst.name
-                            && r.params == b.params
-                            && r.planner == b.planner.name()
-                    })
+                    .filter(|r| r.instance == inst.name && self.is_of(r, b))
                     .collect();
                 let ok: Vec<&&&RunRecord> = mine.iter().filter(|r| r.status == "solved").collect();
                 let mean = |f: &dyn Fn(&RunRecord) -> f64| {
@@ -348,7 +481,7 @@ impl GridSweep {
                     s,
                     "| {} | {} | {}/{} | {} | {} | {} |",
                     inst.name,
-                    b.label,
+                    b.label(),
                     ok.len(),
                     mine.len(),
                     mean(&|r| r.sum_of_costs.unwrap_or(0) as f64),
@@ -362,7 +495,7 @@ impl GridSweep {
 
     fn summary_page(&self, rows: &[&RunRecord], m: &Manifest) -> String {
         format!(
-            "# Sweep `{}`\n\n`mrpp {}` — mrpp {}, seed {}, {} runs per cell, {} s per run, wall time {:.1} s, {} threads.\n\n{}",
+            "# Sweep `{}`\n\n`mrpp {}` — mrpp {}, seed {}, {} runs per cell, {} s per run, wall time {:.1} s, {} threads.\n\n{}\n## Success rate and median runtime by agents\n\n![success rate](success.svg)\n![runtime](runtime.svg)\n\n{}",
             self.cfg.name,
             m.sweep_command().join(" "),
             m.mrpp_version,
@@ -371,7 +504,226 @@ impl GridSweep {
             self.cfg.time_limit,
             m.wall_seconds,
             m.threads,
-            self.table(rows)
+            self.table(rows),
+            self.by_agents_table(rows)
         )
+    }
+
+    /// Whether record `r` is a run of solver `b`.
+    fn is_of(&self, r: &RunRecord, b: &Solver) -> bool {
+        match b {
+            Solver::Own(b) => r.params == b.params && r.planner == b.planner.name(),
+            Solver::Peer(p) => r.params == "peer" && r.planner == p.name,
+        }
+    }
+
+    /// Per map, agent count and solver: (success rate in %, median runtime of the solved runs
+    /// in ms), over all scenarios and runs of that cell.
+    fn by_agents(&self, rows: &[&RunRecord]) -> Vec<(String, usize, usize, f64, Option<f64>)> {
+        let mut cells: Vec<(String, usize)> = Vec::new();
+        for inst in &self.instances {
+            let key = (inst.map_name.clone(), inst.problem.num_agents());
+            if !cells.contains(&key) {
+                cells.push(key);
+            }
+        }
+        let mut out = Vec::new();
+        for (map, agents) in cells {
+            for (s, b) in self.planners.iter().enumerate() {
+                let mine: Vec<&&RunRecord> = rows
+                    .iter()
+                    .filter(|r| {
+                        self.is_of(r, b)
+                            && self.instances.iter().any(|i| {
+                                i.name == r.instance
+                                    && i.map_name == map
+                                    && i.problem.num_agents() == agents
+                            })
+                    })
+                    .collect();
+                if mine.is_empty() {
+                    continue;
+                }
+                let mut times: Vec<f64> = mine
+                    .iter()
+                    .filter(|r| r.status == "solved")
+                    .map(|r| r.runtime_ms)
+                    .collect();
+                times.sort_by(f64::total_cmp);
+                let rate = 100.0 * times.len() as f64 / mine.len() as f64;
+                let median = (!times.is_empty()).then(|| {
+                    let k = times.len();
+                    if k % 2 == 1 {
+                        times[k / 2]
+                    } else {
+                        (times[k / 2 - 1] + times[k / 2]) / 2.0
+                    }
+                });
+                out.push((map.clone(), agents, s, rate, median));
+            }
+        }
+        out
+    }
+
+    fn by_agents_table(&self, rows: &[&RunRecord]) -> String {
+        let mut s = String::from(
+            "| map | agents | solver | success % | median runtime ms (solved) |\n|---|---|---|---|---|\n",
+        );
+        for (map, agents, solver, rate, median) in self.by_agents(rows) {
+            let _ = writeln!(
+                s,
+                "| {map} | {agents} | {} | {rate:.0} | {} |",
+                self.planners[solver].label(),
+                median.map_or("-".into(), |m| format!("{m:.1}"))
+            );
+        }
+        s
+    }
+
+    /// `success.svg` and `runtime.svg`: one panel per map, one line per solver.
+    fn figures(&self, rows: &[&RunRecord]) -> Result<(String, String)> {
+        use crate::report::{Panel, Series, line_panels};
+        let cells = self.by_agents(rows);
+        let mut maps: Vec<&str> = Vec::new();
+        for (m, ..) in &cells {
+            if !maps.contains(&m.as_str()) {
+                maps.push(m);
+            }
+        }
+        let panels = |runtime: bool| -> Vec<Panel> {
+            maps.iter()
+                .map(|&map| Panel {
+                    title: map.to_string(),
+                    series: self
+                        .planners
+                        .iter()
+                        .enumerate()
+                        .map(|(k, b)| Series {
+                            name: b.label().to_string(),
+                            points: cells
+                                .iter()
+                                .filter(|c| c.0 == map && c.2 == k)
+                                .filter_map(|c| {
+                                    if runtime {
+                                        c.4.map(|m| (c.1 as f64, m))
+                                    } else {
+                                        Some((c.1 as f64, c.3))
+                                    }
+                                })
+                                .collect(),
+                            ..Series::default()
+                        })
+                        .collect(),
+                })
+                .collect()
+        };
+        let draw = |title: &str, y: &str, runtime: bool| {
+            line_panels(title, "agents", y, &panels(runtime)).map_err(Error::Internal)
+        };
+        Ok((
+            draw("Success rate", "solved %", false)?,
+            draw("Median runtime of solved runs", "ms", true)?,
+        ))
+    }
+
+    /// Runs peer `peer` on instance `i` (module doc).
+    fn run_peer(&self, peer: &PeerSpec, i: usize, run: usize, seed: u64) -> RunRecord {
+        let inst = &self.instances[i];
+        let n = inst.problem.num_agents();
+        let record = |status: &str, m: Option<mrpp_core::Metrics>, runtime_ms: f64| RunRecord {
+            job: 0,
+            key: String::new(),
+            family: mrpp_grid::FAMILY.into(),
+            instance: inst.name.clone(),
+            planner: peer.name.clone(),
+            params: "peer".into(),
+            run,
+            seed,
+            status: status.into(),
+            sum_of_costs: m.map(|m| m.sum_of_costs),
+            makespan: m.map(|m| m.makespan),
+            sum_of_moves: m.map(|m| m.sum_of_moves),
+            runtime_ms,
+        };
+        let dir = std::env::temp_dir().join(format!(
+            "mrpp-peer-{}-{}",
+            std::process::id(),
+            derive_seed(seed, &peer.name)
+        ));
+        if std::fs::create_dir_all(&dir).is_err() {
+            return record("gave_up", None, 0.0);
+        }
+        let out = dir.join("result.txt");
+        let mut command = peer.command.clone();
+        for (k, v) in [
+            ("map", shell_quote(&inst.map_path.to_string_lossy())),
+            ("scen", shell_quote(&inst.scen_path.to_string_lossy())),
+            ("agents", n.to_string()),
+            ("seed", (seed % (1 << 31)).to_string()),
+            ("time_limit", self.cfg.time_limit.to_string()),
+            ("out", shell_quote(&out.to_string_lossy())),
+        ] {
+            command = command.replace(&format!("{{{k}}}"), &v);
+        }
+        let started = std::time::Instant::now();
+        let limit = Duration::from_secs_f64(self.cfg.time_limit * 2.0 + 10.0);
+        let finished = std::process::Command::new("sh")
+            .arg("-c")
+            .arg(&command)
+            .stdin(std::process::Stdio::null())
+            .stdout(std::process::Stdio::null())
+            .stderr(std::process::Stdio::null())
+            .spawn()
+            .map(|mut child| {
+                loop {
+                    match child.try_wait() {
+                        Ok(Some(_)) => break true,
+                        Ok(None) if started.elapsed() < limit => {
+                            std::thread::sleep(Duration::from_millis(5))
+                        }
+                        _ => {
+                            let _ = child.kill();
+                            let _ = child.wait();
+                            break false;
+                        }
+                    }
+                }
+            })
+            .unwrap_or(false);
+        let wall_ms = started.elapsed().as_secs_f64() * 1e3;
+        let text = std::fs::read_to_string(&out).ok();
+        let _ = std::fs::remove_dir_all(&dir);
+        let Some(text) = text.filter(|_| finished) else {
+            return record("gave_up", None, wall_ms);
+        };
+        let runtime_ms = text
+            .lines()
+            .find_map(|l| l.strip_prefix("comp_time="))
+            .and_then(|v| v.trim().parse::<f64>().ok())
+            .unwrap_or(wall_ms);
+        if text.lines().any(|l| l.trim() == "solved=0") {
+            let status = if runtime_ms >= self.cfg.time_limit * 1e3 {
+                "time_limit"
+            } else {
+                "gave_up"
+            };
+            return record(status, None, runtime_ms);
+        }
+        let Ok((theirs, plan)) = mrpp_grid::io::lacam::parse_lacam(&text, &out, &inst.map) else {
+            return record("invalid", None, runtime_ms);
+        };
+        let ours = inst.problem.instance();
+        if theirs.starts != ours.starts || theirs.goals != ours.goals {
+            return record("invalid", None, runtime_ms);
+        }
+        match accept(
+            &inst.problem,
+            plan,
+            &peer.name,
+            Duration::from_secs_f64(runtime_ms / 1e3),
+        ) {
+            Ok(s) => record("solved", Some(s.metrics), runtime_ms),
+            Err(_) => record("invalid", None, runtime_ms),
+        }
     }
 }

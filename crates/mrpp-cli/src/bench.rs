@@ -4,7 +4,7 @@
 use std::path::PathBuf;
 
 use mrpp_bench::Shard;
-use mrpp_bench::sweep::{GridSweep, InstanceSpec, PlannerSpec, SweepConfig};
+use mrpp_bench::sweep::{GridSweep, InstanceSpec, PeerSpec, PlannerSpec, SweepConfig};
 
 use crate::output::Fail;
 use crate::sweeps::{Mode, drive};
@@ -13,7 +13,7 @@ use crate::sweeps::{Mode, drive};
 pub(crate) enum Bench {
     /// Run a sweep (or one shard of it): records.csv (one validated run per line), summary.md,
     /// manifest.json.
-    Run(RunArgs),
+    Run(Box<RunArgs>),
     /// Join the parts of a sharded sweep (`part-i-of-N.jsonl` in the given folders) into the
     /// files of the whole sweep; the sweep is rebuilt from the command its parts recorded.
     Merge {
@@ -55,6 +55,15 @@ pub(crate) struct RunArgs {
     /// Run only shard i of N (`i/N`).
     #[arg(long)]
     shard: Option<Shard>,
+    /// An external solver writing LaCAM text results, `name=command template` with
+    /// {map} {scen} {agents} {seed} {time_limit} {out}; repeatable; added to a config's peers.
+    #[arg(long = "peer", value_name = "NAME=COMMAND")]
+    peers: Vec<PeerSpec>,
+    /// Jobs run at once (default: one per core). Use 1 to time solvers side by side without
+    /// them competing for cores.
+    #[arg(long)]
+    jobs: Option<usize>,
+    /// Output folder. A folder holding an interrupted run of the same sweep resumes it.
     #[arg(long, default_value = "out/bench")]
     out: PathBuf,
 }
@@ -87,9 +96,11 @@ impl RunArgs {
                             params: Default::default(),
                         })
                         .collect(),
+                    peers: Vec::new(),
                 }
             }
         };
+        cfg.peers.extend(self.peers.iter().cloned());
         if let Some(s) = self.seed {
             cfg.seed = s;
         }
@@ -106,6 +117,15 @@ pub(crate) fn run(args: RunArgs, merge: Option<Mode>) -> Result<u8, Fail> {
     };
     let seed = cfg.seed;
     let sweep = GridSweep::new(cfg)?;
+    let jobs = args.jobs;
     let mode = merge.unwrap_or(Mode::run(args.shard, args.out));
-    drive(&sweep, &mode, seed, "runs")
+    match jobs {
+        Some(n) if (1..=1024).contains(&n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(|e| Fail(format!("cannot start {n} worker threads: {e}")))?
+            .install(|| drive(&sweep, &mode, seed, "runs")),
+        Some(n) => Err(Fail(format!("--jobs must be between 1 and 1024, got {n}"))),
+        None => drive(&sweep, &mode, seed, "runs"),
+    }
 }

@@ -176,7 +176,7 @@ fn run(command: Command) -> Result<u8, Fail> {
         Command::Info { inputs } => verbs::info(&inputs),
         Command::Render { inputs, plan, out } => verbs::render(&inputs, &plan, &out),
         Command::Experiment(e) => experiment::run(e, None),
-        Command::Bench(bench::Bench::Run(a)) => bench::run(a, None),
+        Command::Bench(bench::Bench::Run(a)) => bench::run(*a, None),
         Command::Bench(bench::Bench::Merge { out, parts }) => merge(out, parts),
         Command::Trees(t) => tree_family::run(t),
         Command::Gen(g) => gen_cmd::run(g),
@@ -196,7 +196,7 @@ fn merge(out: PathBuf, parts: Vec<PathBuf>) -> Result<u8, Fail> {
     };
     match cli.command {
         Command::Experiment(e) => experiment::run(e, Some(mode)),
-        Command::Bench(bench::Bench::Run(a)) => bench::run(a, Some(mode)),
+        Command::Bench(bench::Bench::Run(a)) => bench::run(*a, Some(mode)),
         _ => Err(Fail(
             "the parts were not made by `mrpp experiment` or `mrpp bench run`".into(),
         )),

@@ -4,7 +4,10 @@
 
 use std::path::{Path, PathBuf};
 
-use mrpp_bench::harness::{Manifest, Numbered, merge_parts, outputs, run_shard, threads};
+use mrpp_bench::harness::{
+    Manifest, Numbered, merge_parts, outputs, progress_file, progress_line, read_progress,
+    run_shard, threads,
+};
 use mrpp_bench::{Shard, Sweep};
 
 use crate::output::{Fail, write_atomic};
@@ -43,7 +46,7 @@ pub(crate) fn drive<S: Sweep>(
 ) -> Result<u8, Fail> {
     let (rows, manifest, shard, out) = match mode {
         Mode::Run { shard, out } => {
-            let (rows, manifest) = run_jobs(sweep, *shard, seed, unit)?;
+            let (rows, manifest) = run_jobs(sweep, *shard, seed, unit, out)?;
             (rows, manifest, *shard, out)
         }
         Mode::Merge {
@@ -84,22 +87,54 @@ pub(crate) fn drive<S: Sweep>(
 }
 
 /// Runs the jobs of `shard` with a progress reporter; returns the rows and the folder's manifest.
+/// Each finished job is appended to the folder's progress file at once (created, with the
+/// folder, before any job runs, so an unwritable `--out` fails first); jobs already in that file
+/// (an interrupted run of the same sweep) are not run again.
 fn run_jobs<S: Sweep>(
     sweep: &S,
     shard: Shard,
     seed: u64,
     unit: &'static str,
+    out: &Path,
 ) -> Result<(Numbered<S::Row>, Manifest), Fail> {
+    use std::io::Write as _;
     let total = sweep.jobs().len();
     let mine = (0..total).filter(|&j| shard.owns(j)).count();
+    std::fs::create_dir_all(out)
+        .map_err(|e| Fail(format!("{}: cannot create: {e}", out.display())))?;
+    let progress = out.join(progress_file(shard));
+    let previous = read_progress(sweep, shard, &progress)?;
+    let log = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(&progress)
+        .map_err(|e| Fail(format!("{}: cannot write: {e}", progress.display())))?;
+    let log = std::sync::Mutex::new(log);
     println!(
         "mrpp {} | {} | seed {seed} | {total} jobs | shard {shard}: {mine} jobs | threads {}",
         env!("CARGO_PKG_VERSION"),
         sweep.name(),
         threads()
     );
-    let jobs = Jobs::new(mine, unit);
-    let (rows, wall) = run_shard(sweep, shard, &|t| jobs.tick(t.key))?;
+    if !previous.is_empty() {
+        println!(
+            "resuming: {} of {mine} jobs already done in {}",
+            previous.len(),
+            progress.display()
+        );
+    }
+    let jobs = Jobs::new(mine - previous.len(), unit);
+    let sink = |j: usize, row: &S::Row| -> mrpp_core::Result<()> {
+        let line = progress_line(sweep, j, row);
+        let mut f = log.lock().unwrap_or_else(|e| e.into_inner());
+        f.write_all(line.as_bytes())
+            .and_then(|()| f.flush())
+            .map_err(|e| mrpp_core::Error::Io {
+                path: progress.clone(),
+                source: e,
+            })
+    };
+    let (rows, wall) = run_shard(sweep, shard, previous, &|t| jobs.tick(t.key), &sink)?;
     jobs.finish();
     let manifest = Manifest {
         sweep: sweep.name().to_string(),

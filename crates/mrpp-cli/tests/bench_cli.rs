@@ -154,3 +154,100 @@ fn toml_sweep_shards_merge_and_bad_configs_are_named() {
     assert_eq!(err.lines().count(), 1, "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn a_peer_command_joins_the_sweep_and_an_interrupted_run_resumes() {
+    let dir = tmp("peer");
+    let out = dir.join("out");
+    // The peer is mrpp itself behind its LaCAM text output, run as an external command.
+    let peer = format!(
+        "mrpp-pibt={} solve --map {{map}} --scen {{scen}} --agents {{agents}} --planner pibt -p swap=true --seed {{seed}} --time-limit {{time_limit}} --format lacam --out {{out}}",
+        env!("CARGO_BIN_EXE_mrpp")
+    );
+    let args = [
+        "bench",
+        "run",
+        "--map",
+        "data/movingai/random-32-32-20.map",
+        "--scen",
+        "data/movingai/random-32-32-20-random-1.scen",
+        "--agents",
+        "20,40",
+        "--planners",
+        "lacam",
+        "--runs",
+        "2",
+        "--time-limit",
+        "5",
+        "--jobs",
+        "1",
+        "--peer",
+        &peer,
+        "--out",
+        s(&out),
+    ];
+    mrpp(&args, 0);
+    let records = std::fs::read_to_string(out.join("records.csv")).unwrap();
+    assert_eq!(records.lines().count(), 1 + 2 * 2 * 2, "{records}");
+    let peer_rows: Vec<&str> = records
+        .lines()
+        .filter(|l| l.contains(",mrpp-pibt,peer,"))
+        .collect();
+    assert_eq!(peer_rows.len(), 4, "{records}");
+    assert!(
+        peer_rows.iter().all(|l| l.contains(",solved,")),
+        "{records}"
+    );
+    let summary = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    assert!(
+        summary.contains("| random-32-32-20 | 40 | mrpp-pibt | 100 |"),
+        "{summary}"
+    );
+    for f in ["success.svg", "runtime.svg"] {
+        assert!(
+            std::fs::read_to_string(out.join(f))
+                .unwrap()
+                .starts_with("<svg"),
+            "{f}"
+        );
+    }
+    // Interrupted after three jobs: the rerun runs only the other five.
+    let progress = out.join("progress-1-of-1.jsonl");
+    let kept: String = std::fs::read_to_string(&progress)
+        .unwrap()
+        .lines()
+        .take(3)
+        .map(|l| format!("{l}\n"))
+        .collect();
+    std::fs::write(&progress, kept).unwrap();
+    std::fs::remove_file(out.join("records.csv")).unwrap();
+    let (stdout, _) = mrpp(&args, 0);
+    assert!(
+        stdout.contains("resuming: 3 of 8 jobs already done"),
+        "{stdout}"
+    );
+    assert_eq!(
+        without_timing(&out.join("records.csv")).lines().count(),
+        records.lines().count()
+    );
+    // A bad template is named before anything runs.
+    let (_, err) = mrpp(
+        &[
+            "bench",
+            "run",
+            "--map",
+            "data/movingai/empty-8-8.map",
+            "--scen",
+            "data/movingai/empty-8-8-random-1.scen",
+            "--planners",
+            "lacam",
+            "--peer",
+            "x=echo {mapp} {out}",
+            "--out",
+            s(&dir.join("o")),
+        ],
+        1,
+    );
+    assert!(err.contains("unknown placeholder `{mapp}`"), "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

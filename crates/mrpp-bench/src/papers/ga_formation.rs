@@ -537,7 +537,8 @@ mod tests {
                 .build()
                 .unwrap()
                 .install(|| {
-                    let (rows, _) = run_shard(&sweep, Shard::ALL, &|_| {}).unwrap();
+                    let (rows, _) =
+                        run_shard(&sweep, Shard::ALL, Vec::new(), &|_| {}, &|_, _| Ok(())).unwrap();
                     rows.into_iter()
                         .map(|(_, r)| FormationRow {
                             roadmap_ms: 0.0,

@@ -799,7 +799,8 @@ mod tests {
                 .unwrap()
                 .install(|| {
                     let sweep = GpTable3::new(cfg.clone(), 6).unwrap();
-                    let (rows, _) = run_shard(&sweep, Shard::ALL, &|_| {}).unwrap();
+                    let (rows, _) =
+                        run_shard(&sweep, Shard::ALL, Vec::new(), &|_| {}, &|_, _| Ok(())).unwrap();
                     rows.into_iter().map(|(_, r)| r).collect::<Vec<_>>()
                 })
         };
@@ -835,7 +836,7 @@ mod tests {
     fn table4_and_table5_run_small() {
         let cfg = tiny();
         let t4 = GpTable4::new(cfg.clone(), vec![1, 2], 1, 3).unwrap();
-        let (rows4, _) = run_shard(&t4, Shard::ALL, &|_| {}).unwrap();
+        let (rows4, _) = run_shard(&t4, Shard::ALL, Vec::new(), &|_| {}, &|_, _| Ok(())).unwrap();
         assert_eq!(rows4.len(), 2);
         assert!(rows4.iter().all(|(_, r)| r.tests.len() == 3));
         assert!(
@@ -848,7 +849,7 @@ mod tests {
             assert!(r.program.program.parse::<Program>().is_ok());
         }
         let t5 = GpTable5::new(cfg.clone(), vec![0.5, 1.5], 3).unwrap();
-        let (rows5, _) = run_shard(&t5, Shard::ALL, &|_| {}).unwrap();
+        let (rows5, _) = run_shard(&t5, Shard::ALL, Vec::new(), &|_| {}, &|_, _| Ok(())).unwrap();
         assert_eq!(rows5.len(), 6);
         assert!(GpTable5::new(cfg.clone(), vec![0.0], 1).is_err());
         assert!(GpTable4::new(cfg, vec![0], 1, 1).is_err());
