@@ -239,3 +239,70 @@ mod tests {
         assert!(e.starts_with("r.txt:2:"), "{e}");
     }
 }
+
+/// A random instance of `agents` agents on `map` (what `mrpp gen scen` writes): starts distinct,
+/// goals distinct, all drawn uniformly (seeded) from the largest connected component, so every
+/// agent can reach its goal.
+///
+/// # Errors
+/// A message when the component has fewer than `agents` cells or `agents` is 0.
+pub fn random_instance(
+    map: &GridMap,
+    agents: usize,
+    seed: u64,
+) -> std::result::Result<Instance, String> {
+    use rand::SeedableRng;
+    use rand::seq::IndexedRandom;
+    let g = map.graph();
+    let mut component = vec![usize::MAX; g.num_vertices()];
+    let mut best: Vec<VertexId> = Vec::new();
+    for s in 0..g.num_vertices() {
+        if component[s] != usize::MAX {
+            continue;
+        }
+        component[s] = s;
+        let mut cells = vec![s as VertexId];
+        let mut k = 0;
+        while k < cells.len() {
+            for &w in g.neighbors(cells[k]) {
+                if component[w as usize] == usize::MAX {
+                    component[w as usize] = s;
+                    cells.push(w);
+                }
+            }
+            k += 1;
+        }
+        if cells.len() > best.len() {
+            best = cells;
+        }
+    }
+    if agents == 0 || agents > best.len() {
+        return Err(format!(
+            "cannot place {agents} agents: the largest connected area has {} free cells",
+            best.len()
+        ));
+    }
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let starts: Vec<VertexId> = best.sample(&mut rng, agents).copied().collect();
+    let goals: Vec<VertexId> = best.sample(&mut rng, agents).copied().collect();
+    Instance::new(starts, goals)
+}
+
+/// `inst` as a MovingAI `.scen` (`version 1`; bucket = distance / 4; the last field is the
+/// 4-connected shortest distance, where MovingAI's own files give the octile one).
+pub fn scen_text(map: &GridMap, map_file: &str, inst: &Instance) -> String {
+    use std::fmt::Write as _;
+    let mut s = String::from("version 1\n");
+    for (&a, &b) in inst.starts.iter().zip(&inst.goals) {
+        let d = mrpp_core::mapf::search::distance::bfs_distances(map.graph(), b)[a as usize];
+        let ((sx, sy), (gx, gy)) = (map.cell(a), map.cell(b));
+        let _ = writeln!(
+            s,
+            "{}\t{map_file}\t{}\t{}\t{sx}\t{sy}\t{gx}\t{gy}\t{d}",
+            d / 4,
+            map.width(),
+            map.height()
+        );
+    }
+    s
+}
