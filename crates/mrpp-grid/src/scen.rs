@@ -181,65 +181,6 @@ fn parse_robots(text: &str, path: &Path) -> Result<Vec<Entry>> {
     Ok(out)
 }
 
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn map() -> GridMap {
-        GridMap::parse("#####\n#   #\n# # #\n#   #\n#####", Path::new("m.txt"))
-            .unwrap()
-            .0
-    }
-
-    #[test]
-    fn robot_file_parses_with_comments() {
-        let m = map();
-        let inst = parse_agents(
-            "# Room 0\r\n1,1;3,3\r\n\r\n3,1;1,3",
-            Path::new("r.txt"),
-            &m,
-            None,
-        )
-        .unwrap();
-        assert_eq!(inst.num_agents(), 2);
-        assert_eq!(m.cell(inst.starts[1]), (3, 1));
-        assert_eq!(m.cell(inst.goals[0]), (3, 3));
-    }
-
-    #[test]
-    fn scen_takes_first_n() {
-        let m = map();
-        let text = "version 1\n0\tm.map\t5\t5\t1\t1\t3\t3\t4\n0\tm.map\t5\t5\t3\t1\t1\t3\t4\n";
-        let inst = parse_agents(text, Path::new("s.scen"), &m, Some(1)).unwrap();
-        assert_eq!(inst.num_agents(), 1);
-        let err = parse_agents(text, Path::new("s.scen"), &m, Some(3))
-            .unwrap_err()
-            .to_string();
-        assert!(err.contains("only 2"), "{err}");
-    }
-
-    #[test]
-    fn wall_off_map_and_duplicates_are_named() {
-        let m = map();
-        let e = parse_agents("1,1;2,2", Path::new("r.txt"), &m, None)
-            .unwrap_err()
-            .to_string();
-        assert!(e.starts_with("r.txt:1:") && e.contains("wall"), "{e}");
-        let e = parse_agents("1,1;3,3\n9,1;1,3", Path::new("r.txt"), &m, None)
-            .unwrap_err()
-            .to_string();
-        assert!(e.starts_with("r.txt:2:") && e.contains("off"), "{e}");
-        let e = parse_agents("1,1;3,3\n1,1;1,3", Path::new("r.txt"), &m, None)
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("line 1"), "{e}");
-        let e = parse_agents("1,1;3,3\n1;1,3", Path::new("r.txt"), &m, None)
-            .unwrap_err()
-            .to_string();
-        assert!(e.starts_with("r.txt:2:"), "{e}");
-    }
-}
-
 /// A random instance of `agents` agents on `map` (what `mrpp gen scen` writes): starts distinct,
 /// goals distinct, all drawn uniformly (seeded) from the largest connected component, so every
 /// agent can reach its goal.
@@ -305,4 +246,63 @@ pub fn scen_text(map: &GridMap, map_file: &str, inst: &Instance) -> String {
         );
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn map() -> GridMap {
+        GridMap::parse("#####\n#   #\n# # #\n#   #\n#####", Path::new("m.txt"))
+            .unwrap()
+            .0
+    }
+
+    #[test]
+    fn robot_file_parses_with_comments() {
+        let m = map();
+        let inst = parse_agents(
+            "# Room 0\r\n1,1;3,3\r\n\r\n3,1;1,3",
+            Path::new("r.txt"),
+            &m,
+            None,
+        )
+        .unwrap();
+        assert_eq!(inst.num_agents(), 2);
+        assert_eq!(m.cell(inst.starts[1]), (3, 1));
+        assert_eq!(m.cell(inst.goals[0]), (3, 3));
+    }
+
+    #[test]
+    fn scen_takes_first_n() {
+        let m = map();
+        let text = "version 1\n0\tm.map\t5\t5\t1\t1\t3\t3\t4\n0\tm.map\t5\t5\t3\t1\t1\t3\t4\n";
+        let inst = parse_agents(text, Path::new("s.scen"), &m, Some(1)).unwrap();
+        assert_eq!(inst.num_agents(), 1);
+        let err = parse_agents(text, Path::new("s.scen"), &m, Some(3))
+            .unwrap_err()
+            .to_string();
+        assert!(err.contains("only 2"), "{err}");
+    }
+
+    #[test]
+    fn wall_off_map_and_duplicates_are_named() {
+        let m = map();
+        let e = parse_agents("1,1;2,2", Path::new("r.txt"), &m, None)
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("r.txt:1:") && e.contains("wall"), "{e}");
+        let e = parse_agents("1,1;3,3\n9,1;1,3", Path::new("r.txt"), &m, None)
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("r.txt:2:") && e.contains("off"), "{e}");
+        let e = parse_agents("1,1;3,3\n1,1;1,3", Path::new("r.txt"), &m, None)
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("line 1"), "{e}");
+        let e = parse_agents("1,1;3,3\n1;1,3", Path::new("r.txt"), &m, None)
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("r.txt:2:"), "{e}");
+    }
 }
