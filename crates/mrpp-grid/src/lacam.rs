@@ -25,6 +25,13 @@
 //! first-solution time, its cost, the final cost and whether it is proven optimal are the
 //! planner's notes (kept in the plan file).
 //!
+//! mrpp's extension (`-p refine=lns`, default; sum of loss only): LaCAM* alone improves large
+//! instances slowly, so between its search rounds (every 64 iterations) the best plan also goes
+//! through 16 steps of large-neighbourhood search ([`crate::lns`], MAPF-LNS), which lowers its sum
+//! of costs; a better LaCAM* plan replaces the LNS plan. The returned plan is the one with the
+//! lower sum of costs, and `final_cost` is its sum of loss. lacam3 refines its plans the same way
+//! (Engineering LaCAM*, AAMAS 2024). `-p refine=none` is LaCAM* as published.
+//!
 //! Where the papers are silent: priorities tie by agent id; the deadline is checked before every
 //! expansion; without a deadline an anytime search runs until it proves optimality.
 
@@ -38,6 +45,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rustc_hash::{FxHashMap, FxHasher};
 
+use crate::lns::Lns;
 use crate::pibt::{NIL, Step, Tricks};
 use mrpp_core::mapf::search::distance::{GoalDistances, UNREACHABLE};
 use mrpp_core::{
@@ -73,6 +81,11 @@ pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             doc: "PIBT generator breaks ties by hindrance (Engineering LaCAM*)",
         },
         Param {
+            name: "refine",
+            default: "lns",
+            doc: "LaCAM* (sum_of_loss): lns = also improve the best plan's sum of costs by large-neighbourhood search (MAPF-LNS, IJCAI 2021); none = LaCAM* alone",
+        },
+        Param {
             name: "restart_rate",
             default: "0.001",
             doc: "LaCAM*: probability of re-pushing the start node instead of a re-reached one",
@@ -88,6 +101,7 @@ pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             objective,
             restart_rate,
             tricks: Tricks::from_params(p)?,
+            refine: p.choice("refine", &["lns", "none"])? == 0,
             ..Lacam::default()
         }))
     },
@@ -122,6 +136,9 @@ pub struct Lacam {
     pub restart_rate: f64,
     /// Refinements of the PIBT generator.
     pub tricks: Tricks,
+    /// LaCAM* with the sum-of-loss objective: improve the best plan by large-neighbourhood
+    /// search between search rounds ([`crate::lns`]).
+    pub refine: bool,
     last: Mutex<Option<Report>>,
 }
 
@@ -136,6 +153,7 @@ impl Default for Lacam {
                 swap: true,
                 hindrance: true,
             },
+            refine: true,
             last: Mutex::new(None),
         }
     }
@@ -153,6 +171,9 @@ pub struct Report {
     pub proven_optimal: bool,
     /// Configurations generated.
     pub configurations: usize,
+    /// LNS steps taken, and those that lowered the sum of costs (0 without refinement).
+    pub lns_steps: u64,
+    pub lns_improvements: u64,
 }
 
 impl Lacam {
@@ -189,7 +210,7 @@ impl Planner<MapfProblem> for Lacam {
     }
 
     /// `first_solution_ms`, `first_cost`, `final_cost`, `objective`, `proven_optimal`,
-    /// `configurations` of the last plan.
+    /// `configurations`, and with refinement `lns_steps` and `lns_improvements`, of the last plan.
     fn notes(&self) -> serde_json::Map<String, serde_json::Value> {
         let mut m = serde_json::Map::new();
         if let Some(r) = self.report() {
@@ -200,6 +221,10 @@ impl Planner<MapfProblem> for Lacam {
             m.insert("final_cost".into(), r.final_cost.into());
             m.insert("proven_optimal".into(), r.proven_optimal.into());
             m.insert("configurations".into(), r.configurations.into());
+            if r.lns_steps > 0 {
+                m.insert("lns_steps".into(), r.lns_steps.into());
+                m.insert("lns_improvements".into(), r.lns_improvements.into());
+            }
         }
         m
     }
@@ -240,7 +265,7 @@ struct Search<'a> {
     lacam: &'a Lacam,
     graph: &'a Graph,
     goals: &'a [VertexId],
-    dist: GoalDistances<'a>,
+    dist: &'a GoalDistances<'a>,
     nodes: Vec<Node>,
     by_hash: FxHashMap<u64, u32>,
     occupied_now: Vec<usize>,
@@ -274,7 +299,7 @@ pub(crate) fn search(
         lacam,
         graph,
         goals,
-        dist,
+        dist: &dist,
         nodes: Vec::new(),
         by_hash: FxHashMap::default(),
         occupied_now: vec![NIL; graph.num_vertices()],
@@ -286,9 +311,28 @@ pub(crate) fn search(
     let mut open = vec![root];
     let mut goal = NONE;
     let mut first: Option<(f64, u64)> = None;
+    let refine = lacam.anytime && lacam.refine && lacam.objective == Objective::SumOfLoss;
+    let mut lns: Option<Lns> = None;
+    let mut iterations = 0u64;
     while let Some(&top) = open.last() {
         if ctx.deadline.expired() {
             break;
+        }
+        iterations += 1;
+        if let Some(l) = lns.as_mut()
+            && iterations.is_multiple_of(LNS_EVERY)
+        {
+            for _ in 0..LNS_STEPS {
+                if l.step(ctx.deadline) {
+                    let cost = l.sum_of_costs();
+                    ctx.report(Progress {
+                        stage: "LaCAM* cost",
+                        done: cost,
+                        total: 0,
+                        note: format!("LNS, sum of costs {cost}"),
+                    });
+                }
+            }
         }
         if s.nodes[top as usize].tree.is_empty() {
             open.pop();
@@ -304,6 +348,9 @@ pub(crate) fn search(
             first = Some((began.elapsed().as_secs_f64(), cost));
             if !lacam.anytime {
                 break;
+            }
+            if refine {
+                lns = Some(Lns::new(graph, goals, &dist, s.paths_to(goal), ctx.seed));
             }
             ctx.report(Progress {
                 stage: "LaCAM* cost",
@@ -328,6 +375,12 @@ pub(crate) fn search(
             if let Some(b) = before
                 && s.nodes[goal as usize].g < b
             {
+                if let Some(l) = lns.as_mut() {
+                    let paths = s.paths_to(goal);
+                    if sum_of_costs(&paths) < l.sum_of_costs() {
+                        l.reset(paths);
+                    }
+                }
                 let cost = s.nodes[goal as usize].g;
                 ctx.report(Progress {
                     stage: "LaCAM* cost",
@@ -363,21 +416,50 @@ pub(crate) fn search(
         });
     }
     let (first_solution_secs, first_cost) = first.expect("set with the goal");
+    let proven_optimal = lacam.anytime && open.is_empty();
+    let mut paths = s.paths_to(goal);
+    if let Some(l) = &lns
+        && !proven_optimal
+        && l.sum_of_costs() < sum_of_costs(&paths)
+    {
+        paths = l.paths().to_vec();
+    }
+    let horizon = paths.iter().map(Vec::len).max().unwrap_or(1);
+    let configs: Vec<Vec<VertexId>> = (0..horizon)
+        .map(|t| paths.iter().map(|p| p[t.min(p.len() - 1)]).collect())
+        .collect();
+    let final_cost = match lacam.objective {
+        Objective::Makespan => horizon as u64 - 1,
+        Objective::SumOfLoss => configs.windows(2).map(|w| s.edge_cost(&w[0], &w[1])).sum(),
+    };
     let report = Report {
         first_solution_secs,
         first_cost,
-        final_cost: s.nodes[goal as usize].g,
-        proven_optimal: lacam.anytime && open.is_empty(),
+        final_cost,
+        proven_optimal,
         configurations: s.nodes.len(),
+        lns_steps: lns.as_ref().map_or(0, |l| l.counts().0),
+        lns_improvements: lns.as_ref().map_or(0, |l| l.counts().1),
     };
-    let mut configs = Vec::new();
-    let mut k = goal;
-    while k != NONE {
-        configs.push(s.nodes[k as usize].config.to_vec());
-        k = s.nodes[k as usize].parent;
-    }
-    configs.reverse();
     Ok((configs, report))
+}
+
+/// LaCAM* iterations between two LNS rounds, and LNS steps per round.
+const LNS_EVERY: u64 = 64;
+const LNS_STEPS: usize = 16;
+
+/// Sum of costs of `paths` with trailing waits on the goal not counted.
+fn sum_of_costs(paths: &[Vec<VertexId>]) -> u64 {
+    paths
+        .iter()
+        .map(|p| {
+            let mut end = p.len() - 1;
+            while end > 0 && p[end] == p[end - 1] {
+                end -= 1;
+            }
+            end as u64
+        })
+        .sum()
 }
 
 /// FxHash of a configuration.
@@ -388,6 +470,20 @@ fn config_hash(config: &[VertexId]) -> u64 {
 }
 
 impl Search<'_> {
+    /// The plan from the root to node `id`, one path per agent.
+    fn paths_to(&self, id: u32) -> Vec<Vec<VertexId>> {
+        let mut configs = Vec::new();
+        let mut k = id;
+        while k != NONE {
+            configs.push(&self.nodes[k as usize].config);
+            k = self.nodes[k as usize].parent;
+        }
+        configs.reverse();
+        (0..self.goals.len())
+            .map(|i| configs.iter().map(|c| c[i]).collect())
+            .collect()
+    }
+
     /// A new node for `config` reached from `parent` at cost `g` (the root: `parent` = NONE);
     /// registered under its hash when it is the root (children are linked by the caller).
     fn create(&mut self, config: Box<[VertexId]>, parent: u32, g: u64) -> u32 {
@@ -507,7 +603,7 @@ impl Search<'_> {
         self.next.fill(VertexId::MAX);
         let mut st = Step {
             graph: self.graph,
-            dist: &self.dist,
+            dist: self.dist,
             goals: self.goals,
             tricks: self.lacam.tricks,
             now,

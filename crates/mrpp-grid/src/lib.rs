@@ -10,6 +10,7 @@ pub mod corridors;
 pub mod hstar;
 pub mod io;
 pub mod lacam;
+pub mod lns;
 pub mod map;
 pub mod nsga3;
 pub mod pibt;

@@ -54,7 +54,13 @@ pub struct GoalDistances<'g> {
     graph: &'g Graph,
     goals: Vec<VertexId>,
     tables: Vec<std::sync::Mutex<LazyBfs>>,
+    /// Every table, complete, when [`GoalDistances::warm_up`] found them small enough to finish
+    /// (read without locking).
+    complete: Option<Vec<Store>>,
 }
+
+/// [`GoalDistances::warm_up`] completes every table when agents × vertices is at most this.
+const COMPLETE_ENTRIES: usize = 1 << 26;
 
 /// A table's storage: 2 or 4 bytes per vertex.
 enum Store {
@@ -90,6 +96,20 @@ struct LazyBfs {
 }
 
 impl LazyBfs {
+    /// Runs the (started) search to the end of the goal's component.
+    fn finish(&mut self, g: &Graph) {
+        while let Some(u) = self.queue.pop_front() {
+            let d = self.dist.get(u as usize) + 1;
+            for &w in g.neighbors(u) {
+                if self.dist.get(w as usize) == UNREACHABLE {
+                    self.dist.set(w as usize, d);
+                    self.queue.push_back(w);
+                }
+            }
+        }
+        self.queue = VecDeque::new();
+    }
+
     /// Distance from `v` to the table's goal, growing the search until `v` is reached or the
     /// component is exhausted.
     fn get(&mut self, g: &Graph, goal: VertexId, v: VertexId) -> u32 {
@@ -139,11 +159,16 @@ impl<'g> GoalDistances<'g> {
                     })
                 })
                 .collect(),
+            complete: None,
         }
     }
 
     /// Hop distance from `v` to agent `i`'s goal ([`UNREACHABLE`] when there is no route).
+    #[inline]
     pub fn get(&self, i: usize, v: VertexId) -> u32 {
+        if let Some(done) = &self.complete {
+            return done[i].get(v as usize);
+        }
         self.tables[i]
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner)
@@ -151,18 +176,38 @@ impl<'g> GoalDistances<'g> {
     }
 
     /// Grows every agent's table until it reaches `at[i]` (typically the starts), in parallel.
+    /// When agents × vertices is at most 2^26, every table is completed instead, and later
+    /// queries read them without locking.
     pub fn warm_up(&mut self, at: &[VertexId]) {
         use rayon::prelude::*;
         let (g, goals) = (self.graph, &self.goals);
+        let finish = goals.len().saturating_mul(g.num_vertices()) <= COMPLETE_ENTRIES;
         self.tables
             .par_iter_mut()
             .zip(at.par_iter())
             .enumerate()
             .for_each(|(i, (t, &v))| {
-                t.get_mut()
-                    .unwrap_or_else(std::sync::PoisonError::into_inner)
-                    .get(g, goals[i], v);
+                let t = t
+                    .get_mut()
+                    .unwrap_or_else(std::sync::PoisonError::into_inner);
+                t.get(g, goals[i], v);
+                if finish {
+                    t.finish(g);
+                }
             });
+        if finish {
+            self.complete = Some(
+                self.tables
+                    .iter_mut()
+                    .map(|t| {
+                        let t = t
+                            .get_mut()
+                            .unwrap_or_else(std::sync::PoisonError::into_inner);
+                        std::mem::replace(&mut t.dist, Store::Unallocated)
+                    })
+                    .collect(),
+            );
+        }
     }
 
     /// Number of agents (tables).

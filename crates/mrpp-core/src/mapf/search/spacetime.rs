@@ -56,6 +56,26 @@ impl Reservations {
         }
     }
 
+    /// Undoes [`Reservations::reserve_path`] with the same arguments (large-neighbourhood search
+    /// takes paths out and puts new ones in). The horizon is kept (an upper bound).
+    pub fn release_path(&mut self, path: &[VertexId], t0: u32, park: bool) {
+        for (k, &v) in path.iter().enumerate() {
+            let t = t0 + k as u32;
+            let from = if k > 0 { path[k - 1] } else { v };
+            let list = &mut self.at[v as usize];
+            if let Some(pos) = list.iter().position(|&e| e == (t, from)) {
+                list.swap_remove(pos);
+            }
+            self.last[v as usize] = list.iter().map(|&(tt, _)| tt).max().unwrap_or(NEVER);
+        }
+        if park && let Some(&v) = path.last() {
+            let t = t0 + path.len() as u32 - 1;
+            if self.parked[v as usize] == t {
+                self.parked[v as usize] = NEVER;
+            }
+        }
+    }
+
     /// Whether `v` is free at time `t`.
     #[inline]
     pub fn vertex_free(&self, v: VertexId, t: u32) -> bool {
@@ -82,6 +102,63 @@ impl Reservations {
     /// Latest reserved time step.
     pub fn horizon(&self) -> u32 {
         self.horizon
+    }
+}
+
+/// The best `g` of each `(vertex, time)` state and whether it was expanded: a dense table over
+/// the query's time span when it is small enough (the usual case), else a hash map.
+enum Seen {
+    /// `(v, t)` at `(t - t0) * nv + v`; 0 = unseen, else `g + 1`, with [`CLOSED`] set once expanded.
+    Dense {
+        cells: Vec<u32>,
+        nv: usize,
+        t0: u32,
+    },
+    Hash(FxHashMap<(VertexId, u32), (u32, bool)>),
+}
+
+const CLOSED: u32 = 1 << 31;
+
+/// Dense tables up to this many states (4 bytes each): beyond, zeroing the table costs more than
+/// hashing the few states a search visits (HCA* on random-32-32-20 with 100 agents: 16 ms with
+/// hashing, 28 ms with 737 k-state dense tables).
+const DENSE_STATES: usize = 1 << 18;
+
+impl Seen {
+    fn new(nv: usize, t0: u32, span: usize) -> Self {
+        match nv.checked_mul(span) {
+            Some(n) if n <= DENSE_STATES => Seen::Dense {
+                cells: vec![0; n],
+                nv,
+                t0,
+            },
+            _ => Seen::Hash(FxHashMap::default()),
+        }
+    }
+
+    #[inline]
+    fn get(&self, v: VertexId, t: u32) -> Option<(u32, bool)> {
+        match self {
+            Seen::Dense { cells, nv, t0 } => {
+                let c = *cells.get((t - t0) as usize * nv + v as usize)?;
+                (c != 0).then(|| ((c & !CLOSED) - 1, c & CLOSED != 0))
+            }
+            Seen::Hash(m) => m.get(&(v, t)).copied(),
+        }
+    }
+
+    #[inline]
+    fn set(&mut self, v: VertexId, t: u32, g: u32, closed: bool) {
+        match self {
+            Seen::Dense { cells, nv, t0 } => {
+                if let Some(c) = cells.get_mut((t - *t0) as usize * *nv + v as usize) {
+                    *c = (g + 1) | if closed { CLOSED } else { 0 };
+                }
+            }
+            Seen::Hash(m) => {
+                m.insert((v, t), (g, closed));
+            }
+        }
     }
 }
 
@@ -132,7 +209,13 @@ pub fn space_time_astar(q: &Query, res: &Reservations) -> Search {
     type Entry = (Reverse<u32>, u32, Reverse<u32>, u32, bool);
     let mut open: BinaryHeap<Entry> = BinaryHeap::new();
     // Per state: best g so far, and whether it has been expanded (closed).
-    let mut seen: FxHashMap<(VertexId, u32), (u32, bool)> = FxHashMap::default();
+    let end_time = q.window.map(|w| q.start_time + w);
+    let last_time = end_time.unwrap_or(q.max_time);
+    let mut seen = Seen::new(
+        q.graph.num_vertices(),
+        q.start_time,
+        last_time.saturating_sub(q.start_time) as usize + 1,
+    );
     let mut counter = 0u32;
     nodes.push(Node {
         v: q.start,
@@ -140,8 +223,7 @@ pub fn space_time_astar(q: &Query, res: &Reservations) -> Search {
         parent: u32::MAX,
     });
     open.push((Reverse(h(q.start)), 0, Reverse(counter), 0, false));
-    seen.insert((q.start, q.start_time), (0, false));
-    let end_time = q.window.map(|w| q.start_time + w);
+    seen.set(q.start, q.start_time, 0, false);
     let mut expansions = 0u64;
     while let Some((_, g, _, idx, terminal)) = open.pop() {
         let (v, t) = (nodes[idx as usize].v, nodes[idx as usize].t);
@@ -155,8 +237,8 @@ pub fn space_time_astar(q: &Query, res: &Reservations) -> Search {
             path.reverse();
             return Search::Found(path);
         }
-        match seen.get_mut(&(v, t)) {
-            Some((_, closed @ false)) => *closed = true,
+        match seen.get(v, t) {
+            Some((g, false)) => seen.set(v, t, g, true),
             _ => continue,
         }
         expansions += 1;
@@ -192,11 +274,11 @@ pub fn space_time_astar(q: &Query, res: &Reservations) -> Search {
                 continue;
             }
             let ng = g + if w == v && waits_free { 0 } else { 1 };
-            let e = seen.entry((w, nt)).or_insert((u32::MAX, false));
+            let e = seen.get(w, nt).unwrap_or((u32::MAX, false));
             if e.1 || ng >= e.0 {
                 continue;
             }
-            e.0 = ng;
+            seen.set(w, nt, ng, false);
             nodes.push(Node {
                 v: w,
                 t: nt,
@@ -276,6 +358,24 @@ mod tests {
         let h = |v: VertexId| d[v as usize];
         match space_time_astar(&query(&g, 0, 1, &h), &res) {
             Search::Found(p) => assert_eq!(p.len(), 5),
+            other => panic!("{other:?}"),
+        }
+    }
+
+    #[test]
+    fn releasing_a_path_frees_its_cells_and_goal() {
+        let g = Graph::from_edges(3, &[(0, 1), (1, 2)]);
+        let mut res = Reservations::new(3);
+        res.reserve_path(&[2, 1, 0], 0, true);
+        res.reserve_path(&[1, 2], 5, false);
+        res.release_path(&[2, 1, 0], 0, true);
+        assert!(res.vertex_free(1, 1) && res.vertex_free(0, 9) && res.move_free(0, 1, 1));
+        assert!(!res.vertex_free(1, 5) && !res.free_from(2, 6) && res.free_from(0, 0));
+        let d = bfs_distances(&g, 2);
+        let h = |v: VertexId| d[v as usize];
+        // The goal is free from t = 7 on.
+        match space_time_astar(&query(&g, 0, 2, &h), &res) {
+            Search::Found(p) => assert_eq!(p.len(), 8),
             other => panic!("{other:?}"),
         }
     }
