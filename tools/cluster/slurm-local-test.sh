@@ -66,13 +66,13 @@ logtail() {
 
 # 2. A private munged (own key and socket) and a one-node slurm.conf.
 mkdir -p "$TMP"/{etc,log,munge,state,spool,parts,jobs}
-chmod 700 "$TMP/munge"
+chmod 711 "$TMP/munge"  # munged wants its socket dir searchable by all
 dd if=/dev/urandom of="$TMP/munge/munge.key" bs=1024 count=1 status=none
 chmod 400 "$TMP/munge/munge.key"
 SOCK=$TMP/munge/munge.socket
 munged --foreground --force --key-file="$TMP/munge/munge.key" --socket="$SOCK" \
     --pid-file="$TMP/munge/munged.pid" --seed-file="$TMP/munge/munged.seed" \
-    --log-file="$TMP/log/munged.log" >>"$TMP/log/munged.log" 2>&1 &
+    >>"$TMP/log/munged.log" 2>&1 &
 PIDS+=($!)
 
 HOST=$(hostname -s)
@@ -87,11 +87,9 @@ AuthType=auth/munge
 CredType=cred/munge
 AuthInfo=socket=$SOCK
 StateSaveLocation=$TMP/state
-SlurmdSpoolDir=$TMP/spool/%n
+SlurmdSpoolDir=$TMP/spool
 SlurmctldPidFile=$TMP/slurmctld.pid
 SlurmdPidFile=$TMP/slurmd.pid
-SlurmctldLogFile=$TMP/log/slurmctld.log
-SlurmdLogFile=$TMP/log/slurmd.log
 ProctrackType=proctrack/linuxproc
 TaskPlugin=task/none
 SwitchType=switch/none
@@ -110,9 +108,9 @@ echo "$(sbatch --version), $(munged --version 2>&1 | awk '{print $1; exit}')"
 for _ in $(seq 50); do [[ -S $SOCK ]] && break; sleep 0.1; done
 [[ -S $SOCK ]] || skip "munged did not start: $(logtail)"
 
-slurmctld -D -c -f "$SLURM_CONF" >>"$TMP/log/slurmctld.out" 2>&1 &
+slurmctld -D -c -f "$SLURM_CONF" >>"$TMP/log/slurmctld.log" 2>&1 &  # -D: log to stderr
 PIDS+=($!)
-slurmd -D -f "$SLURM_CONF" -N "$HOST" >>"$TMP/log/slurmd.out" 2>&1 &
+slurmd -D -f "$SLURM_CONF" -N "$HOST" >>"$TMP/log/slurmd.log" 2>&1 &
 PIDS+=($!)
 
 # Wait (60 s at most) for the node to be idle.

@@ -43,13 +43,15 @@ pub fn goal_distance_tables(g: &Graph, goals: &[VertexId]) -> Vec<Vec<u32>> {
 /// One BFS distance table per agent goal, grown lazily (as in Okumura's LaCAM code): agent `i`'s
 /// breadth-first search from its goal runs only as far as the queries need and resumes where it
 /// stopped, so an agent that never looks far never pays for the whole map. A table stores 2 bytes
-/// per vertex when the graph has fewer than 65 535 vertices (4 otherwise), allocated at its first
-/// query; the BFS queue holds only the frontier and is freed when the search is done.
+/// per vertex (4 once a distance reaches 65 535, which needs a path that long), allocated at its
+/// first query; the BFS queue holds only the frontier and is freed when the search is done.
 /// [`GoalDistances::warm_up`] grows every table up to a given vertex in parallel (rayon); the
 /// values never depend on the order or the thread count of queries.
 ///
-/// Memory: agents × vertices reached × 2 bytes (e.g. 10 000 agents on the 38 756 free cells of
-/// MovingAI's warehouse-20-40-10-2-2: at most 775 MB, less when tables stay partial).
+/// Memory: agents × vertices × 2 bytes once a table is touched (e.g. 10 000 agents on the 38 756
+/// free cells of MovingAI's warehouse-20-40-10-2-2: 775 MB). A table is allocated whole at its
+/// first query; on open maps the search grows over most of the map before it reaches an agent
+/// far from its goal, so lazier storage would save little.
 pub struct GoalDistances<'g> {
     graph: &'g Graph,
     goals: Vec<VertexId>,
@@ -83,7 +85,22 @@ impl Store {
     fn set(&mut self, v: usize, x: u32) {
         match self {
             Store::Unallocated => unreachable!("set after allocation"),
-            Store::Narrow(d) => d[v] = x as u16,
+            Store::Narrow(d) if x < u32::from(u16::MAX) => d[v] = x as u16,
+            Store::Narrow(d) => {
+                // A distance of 65 535 or more: this table needs 4 bytes per vertex after all.
+                let mut wide: Vec<u32> = d
+                    .iter()
+                    .map(|&y| {
+                        if y == u16::MAX {
+                            UNREACHABLE
+                        } else {
+                            u32::from(y)
+                        }
+                    })
+                    .collect();
+                wide[v] = x;
+                *self = Store::Wide(wide);
+            }
             Store::Wide(d) => d[v] = x,
         }
     }
@@ -114,12 +131,7 @@ impl LazyBfs {
     /// component is exhausted.
     fn get(&mut self, g: &Graph, goal: VertexId, v: VertexId) -> u32 {
         if matches!(self.dist, Store::Unallocated) {
-            let n = g.num_vertices();
-            self.dist = if n < usize::from(u16::MAX) {
-                Store::Narrow(vec![u16::MAX; n])
-            } else {
-                Store::Wide(vec![UNREACHABLE; n])
-            };
+            self.dist = Store::Narrow(vec![u16::MAX; g.num_vertices()]);
             self.dist.set(goal as usize, 0);
             self.queue.push_back(goal);
         }
@@ -352,6 +364,18 @@ mod tests {
                 assert_eq!(warmed.get(i, v), table[v as usize], "agent {i} vertex {v}");
             }
         }
+    }
+
+    #[test]
+    fn a_table_widens_when_a_distance_reaches_65535() {
+        let n = 70_000usize;
+        let edges: Vec<(VertexId, VertexId)> = (0..n as VertexId - 1).map(|v| (v, v + 1)).collect();
+        let g = Graph::from_edges(n, &edges);
+        let t = GoalDistances::new(&g, &[0]);
+        assert_eq!(t.get(0, 10), 10);
+        assert_eq!(t.get(0, 69_999), 69_999);
+        assert_eq!(t.get(0, 65_535), 65_535);
+        assert_eq!(t.get(0, 3), 3);
     }
 
     #[test]
