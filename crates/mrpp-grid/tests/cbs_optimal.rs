@@ -1,5 +1,5 @@
 //! CBS and EECBS against brute force on 120 seeded tiny random grids: whenever CBS or EECBS(w = 1)
-//! returns, its sum of costs equals that of an exhaustive search over joint configurations;
+//! (each with disjoint and with standard splitting for CBS) returns, its sum of costs equals that of an exhaustive search over joint configurations;
 //! EECBS(1.5) stays within 1.5 times it; every plan passes the validator (`solve`); and CBS and
 //! EECBS(1) each solve at least 90 % of the solvable cases within 0.5 s.
 //!
@@ -139,7 +139,15 @@ fn cbs_and_eecbs_match_brute_force() {
         solvable += 1;
         let problem = MapfProblem::on(g, &inst, Rules::default());
         let mut costs = Vec::new();
-        for (name, planner) in [("cbs", Cbs::optimal()), ("eecbs(1)", Cbs::eecbs(1.0))] {
+        let standard = Cbs::new(mrpp_grid::cbs::Settings {
+            disjoint: false,
+            ..Cbs::optimal().settings
+        });
+        for (name, planner) in [
+            ("cbs", Cbs::optimal()),
+            ("cbs standard splitting", standard),
+            ("eecbs(1)", Cbs::eecbs(1.0)),
+        ] {
             match solve(&planner, &problem, &ctx()) {
                 Ok(s) => {
                     assert_eq!(

@@ -20,6 +20,38 @@ pub enum Constraint {
     Vertex { v: VertexId, t: u32 },
     /// The agent does not move from `u` (at `t - 1`) to `v` (at `t`).
     Edge { u: VertexId, v: VertexId, t: u32 },
+    /// Disjoint splitting: the agent is at `v` at time `t` (and every other agent is not).
+    AtVertex { v: VertexId, t: u32 },
+    /// Disjoint splitting: the agent moves from `u` to `v` at time `t` (and no other agent is at
+    /// `u` at `t - 1`, at `v` at `t`, or moves `v -> u` at `t`).
+    Traverses { u: VertexId, v: VertexId, t: u32 },
+}
+
+impl Constraint {
+    /// The negative constraints a positive constraint of another agent implies (none for a
+    /// negative one).
+    pub fn implied_for_others(&self) -> Vec<Constraint> {
+        match *self {
+            Constraint::AtVertex { v, t } => vec![Constraint::Vertex { v, t }],
+            Constraint::Traverses { u, v, t } => vec![
+                Constraint::Vertex { v: u, t: t - 1 },
+                Constraint::Vertex { v, t },
+                Constraint::Edge { u: v, v: u, t },
+            ],
+            _ => Vec::new(),
+        }
+    }
+
+    /// Whether `path` (stay semantics: the agent rests on its last vertex) obeys this constraint.
+    pub fn holds_on(&self, path: &[VertexId]) -> bool {
+        let at = |t: u32| path[(t as usize).min(path.len() - 1)];
+        match *self {
+            Constraint::Vertex { v, t } => at(t) != v,
+            Constraint::Edge { u, v, t } => t == 0 || !(at(t - 1) == u && at(t) == v),
+            Constraint::AtVertex { v, t } => at(t) == v,
+            Constraint::Traverses { u, v, t } => t > 0 && at(t - 1) == u && at(t) == v,
+        }
+    }
 }
 
 /// The constraints of one agent, indexed for the search.
@@ -27,6 +59,8 @@ pub enum Constraint {
 pub struct Constraints {
     vertices: FxHashSet<(VertexId, u32)>,
     edges: FxHashSet<(VertexId, VertexId, u32)>,
+    /// Where the agent must be when (its positive constraints), by time.
+    landmarks: Vec<(u32, VertexId)>,
     /// Latest constrained time step (0 when none).
     pub last_t: u32,
     /// Latest vertex constraint on the goal, if any.
@@ -50,14 +84,46 @@ impl Constraints {
                     c.edges.insert((u, v, t));
                     c.last_t = c.last_t.max(t);
                 }
+                Constraint::AtVertex { v, t } => {
+                    c.landmarks.push((t, v));
+                    c.last_t = c.last_t.max(t);
+                }
+                Constraint::Traverses { u, v, t } => {
+                    c.landmarks.push((t - 1, u));
+                    c.landmarks.push((t, v));
+                    c.last_t = c.last_t.max(t);
+                }
             }
         }
+        c.landmarks.sort_unstable();
+        c.landmarks.dedup();
         c
     }
 
     /// Whether moving (or waiting) from `u` at `t - 1` to `v` at `t` is allowed.
     pub fn allows(&self, u: VertexId, v: VertexId, t: u32) -> bool {
-        !self.vertices.contains(&(v, t)) && !self.edges.contains(&(u, v, t))
+        !self.vertices.contains(&(v, t))
+            && !self.edges.contains(&(u, v, t))
+            && self.landmark_at(t).is_none_or(|l| l == v)
+    }
+
+    /// Where the agent must be at `t`, if a positive constraint says.
+    fn landmark_at(&self, t: u32) -> Option<VertexId> {
+        self.landmarks
+            .binary_search_by_key(&t, |&(tl, _)| tl)
+            .ok()
+            .map(|k| self.landmarks[k].1)
+    }
+
+    /// The first landmark at or after `t`.
+    fn next_landmark(&self, t: u32) -> Option<(u32, VertexId)> {
+        let k = self.landmarks.partition_point(|&(tl, _)| tl < t);
+        self.landmarks.get(k).copied()
+    }
+
+    /// The last landmark's time (0 when none).
+    fn last_landmark(&self) -> Option<(u32, VertexId)> {
+        self.landmarks.last().copied()
     }
 
     /// Whether an agent standing on its goal at `t` may stay there for good.
@@ -151,10 +217,33 @@ struct Node {
 /// Focal search for one agent (module doc). The returned path costs at most `w` times the
 /// returned lower bound, which is at most the agent's optimal cost under its constraints.
 pub fn focal_search(q: &Query) -> Result<Found, NoPath> {
-    let h0 = (q.h)(q.start);
-    if h0 == u32::MAX || !q.constraints.allows(q.start, q.start, 0) {
+    let c = q.constraints;
+    // With landmarks the agent must still reach the last one in time, then the goal.
+    let h = |v: VertexId, t: u32| -> u32 {
+        let hv = (q.h)(v);
+        match c.last_landmark() {
+            Some((tl, vl)) if tl >= t && hv != u32::MAX => {
+                let hl = (q.h)(vl);
+                if hl == u32::MAX {
+                    u32::MAX
+                } else {
+                    hv.max(tl - t + hl)
+                }
+            }
+            _ => hv,
+        }
+    };
+    // A state that cannot reach the next landmark in time is dead (Manhattan distance: a lower
+    // bound on grids, 0 elsewhere).
+    let on_time = |v: VertexId, t: u32| {
+        c.next_landmark(t)
+            .is_none_or(|(tl, vl)| q.graph.manhattan(v, vl) <= tl - t)
+    };
+    let h0 = h(q.start, 0);
+    if h0 == u32::MAX || !c.allows(q.start, q.start, 0) || !on_time(q.start, 0) {
         return Err(NoPath::None);
     }
+    let done_after = c.last_landmark().map_or(0, |(tl, _)| tl);
     // After the last constraint, any vertex reaches the goal within |V| steps.
     let max_t = q.constraints.last_t + q.graph.num_vertices() as u32 + 1;
     let mut nodes = vec![Node {
@@ -187,7 +276,7 @@ pub fn focal_search(q: &Query) -> Result<Found, NoPath> {
         };
         open.remove(&(f, id));
         nodes[id as usize].closed = true;
-        if v == q.goal && q.constraints.goal_free_from(t) {
+        if v == q.goal && q.constraints.goal_free_from(t) && t >= done_after {
             let mut path = Vec::with_capacity(t as usize + 1);
             let mut k = id;
             while k != u32::MAX {
@@ -203,10 +292,10 @@ pub fn focal_search(q: &Query) -> Result<Found, NoPath> {
         if t < max_t {
             let nt = t + 1;
             for &w in std::iter::once(&v).chain(q.graph.neighbors(v)) {
-                if !q.constraints.allows(v, w, nt) {
+                if !q.constraints.allows(v, w, nt) || !on_time(w, nt) {
                     continue;
                 }
-                let hw = (q.h)(w);
+                let hw = h(w, nt);
                 if hw == u32::MAX {
                     continue;
                 }

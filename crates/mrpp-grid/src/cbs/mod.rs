@@ -25,7 +25,12 @@
 //! ε̄_h / (1 − ε̄_d)` for `d(n)` conflicts; mrpp caps the divisor below at 0.1 (the paper leaves
 //! `ε̄_d >= 1` open).
 //!
-//! Not implemented (named for users comparing with the literature): disjoint splitting, symmetry
+//! *Disjoint splitting* (Li, Harabor, Stuckey, Ma, Koenig, ICAPS 2019; CBS's default,
+//! `-p splitting=standard` turns it off): a conflict of agents `a` and `b` becomes a child where
+//! `a` may not be at that vertex (or take that edge) then, and one where it must be, which
+//! forbids it to every other agent; the agents whose paths break that are re-planned, and the
+//! low level then searches through the positive constraints as landmarks. EECBS splits the
+//! standard way. Not implemented (named for users comparing with the literature): symmetry
 //! reasoning and the WDG heuristic. CBS does not terminate on unsolvable instances that have
 //! infinitely many constraint sets; the time limit ends it.
 
@@ -64,6 +69,11 @@ pub const CBS_ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             default: "true",
             doc: "adopt a child's path of equal cost with fewer conflicts instead of splitting",
         },
+        Param {
+            name: "splitting",
+            default: "disjoint",
+            doc: "disjoint = a negative and a positive constraint on one agent (Li et al., ICAPS 2019); standard = one negative constraint on each agent",
+        },
     ],
     build: |p| {
         Ok(Box::new(Cbs::new(Settings {
@@ -71,6 +81,7 @@ pub const CBS_ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             explicit_estimation: false,
             prioritize: p.choice("prioritize", &["false", "true"])? == 1,
             bypass: p.choice("bypass", &["false", "true"])? == 1,
+            disjoint: p.choice("splitting", &["standard", "disjoint"])? == 1,
         })))
     },
 };
@@ -98,6 +109,7 @@ pub const EECBS_ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             explicit_estimation: true,
             prioritize: w == 1.0,
             bypass: p.choice("bypass", &["false", "true"])? == 1,
+            disjoint: false,
         })))
     },
 };
@@ -112,6 +124,8 @@ pub struct Settings {
     /// MDD-based conflict prioritisation (only meaningful with optimal low levels, `w = 1`).
     pub prioritize: bool,
     pub bypass: bool,
+    /// Disjoint splitting (CBS only).
+    pub disjoint: bool,
 }
 
 /// CBS or EECBS, by [`Settings`].
@@ -145,6 +159,7 @@ impl Cbs {
             explicit_estimation: false,
             prioritize: true,
             bypass: true,
+            disjoint: true,
         })
     }
 
@@ -155,6 +170,7 @@ impl Cbs {
             explicit_estimation: true,
             prioritize: w == 1.0,
             bypass: true,
+            disjoint: false,
         })
     }
 
@@ -313,15 +329,16 @@ impl<'a> Search<'a> {
         self.problem.instance().num_agents()
     }
 
-    /// The constraints on agent `i` at node `k` (the chain back to the root).
+    /// The constraints on agent `i` at node `k` (the chain back to the root), with the negative
+    /// constraints that other agents' positive ones imply.
     fn constraints_of(&self, mut k: u32, i: usize) -> Vec<Constraint> {
         let mut out = Vec::new();
         while k != u32::MAX {
             let node = &self.nodes[k as usize];
-            if let Some((j, c)) = node.added
-                && j == i
-            {
-                out.push(c);
+            match node.added {
+                Some((j, c)) if j == i => out.push(c),
+                Some((_, c)) => out.extend(c.implied_for_others()),
+                None => {}
             }
             k = node.parent;
         }
@@ -388,33 +405,56 @@ impl<'a> Search<'a> {
         })
     }
 
-    /// The child of node `k` with constraint `c` on agent `i`.
+    /// The child of node `k` with constraint `c` on agent `i`: agent `i` re-planned when its
+    /// path breaks `c`, and (for a positive `c`) every other agent whose path breaks what `c`
+    /// implies for it.
     fn child(&self, k: u32, i: usize, c: Constraint) -> Result<Child, Unsolved> {
         let parent = &self.nodes[k as usize];
-        let mut list = self.constraints_of(k, i);
-        list.push(c);
-        let Some(found) = self.plan_agent(i, &list, &parent.paths)? else {
-            return Ok(Child::Infeasible);
-        };
         let mut paths = parent.paths.clone();
-        paths[i] = Rc::new(found.path);
         let mut lbs = parent.lbs.clone();
-        // A node's bound never drops below its parent's for this agent.
-        lbs[i] = found.lower_bound.max(parent.lbs[i]);
+        let implied = c.implied_for_others();
+        let mut changed = Vec::new();
+        for j in 0..paths.len() {
+            let broken = if j == i {
+                !c.holds_on(&paths[j])
+            } else {
+                implied.iter().any(|x| !x.holds_on(&paths[j]))
+            };
+            if !broken {
+                continue;
+            }
+            let mut list = self.constraints_of(k, j);
+            if j == i {
+                list.push(c);
+            } else {
+                list.extend(implied.iter().copied());
+            }
+            let Some(found) = self.plan_agent(j, &list, &paths)? else {
+                return Ok(Child::Infeasible);
+            };
+            paths[j] = Rc::new(found.path);
+            // A node's bound never drops below its parent's for this agent.
+            lbs[j] = found.lower_bound.max(parent.lbs[j]);
+            changed.push(j);
+        }
         let mut conflicts: Vec<Conflict> = parent
             .conflicts
             .iter()
             .copied()
-            .filter(|x| x.a != i && x.b != i)
+            .filter(|x| !changed.contains(&x.a) && !changed.contains(&x.b))
             .collect();
-        for j in (0..paths.len()).filter(|&j| j != i) {
-            let (a, b) = (i.min(j), i.max(j));
-            conflicts.extend(first_conflict(a, &paths[a], b, &paths[b]));
+        for &i in &changed {
+            for j in (0..paths.len()).filter(|j| *j != i && !(changed.contains(j) && *j < i)) {
+                let (a, b) = (i.min(j), i.max(j));
+                conflicts.extend(first_conflict(a, &paths[a], b, &paths[b]));
+            }
         }
         let cost = paths.iter().map(|p| p.len() as u64 - 1).sum();
         let lb = lbs.iter().sum();
         let mut mdds = parent.mdds.clone();
-        mdds[i] = None;
+        for &j in &changed {
+            mdds[j] = None;
+        }
         Ok(Child::Made(Node {
             parent: k,
             added: Some((i, c)),
@@ -483,16 +523,27 @@ impl<'a> Search<'a> {
         best.expect("a node with conflicts").1
     }
 
-    /// The two constraints that split conflict `c`.
-    fn split(c: &Conflict) -> [(usize, Constraint); 2] {
-        match c.kind {
-            Kind::Vertex(v) => [
-                (c.a, Constraint::Vertex { v, t: c.t }),
-                (c.b, Constraint::Vertex { v, t: c.t }),
+    /// The two constraints that split conflict `c`: one on each agent, or with disjoint
+    /// splitting (Li et al., ICAPS 2019) a negative and a positive one on agent `a`, whose
+    /// children share no solution.
+    fn split(&self, c: &Conflict) -> [(usize, Constraint); 2] {
+        let t = c.t;
+        match (c.kind, self.settings.disjoint) {
+            (Kind::Vertex(v), false) => [
+                (c.a, Constraint::Vertex { v, t }),
+                (c.b, Constraint::Vertex { v, t }),
             ],
-            Kind::Edge(u, v) => [
-                (c.a, Constraint::Edge { u, v, t: c.t }),
-                (c.b, Constraint::Edge { u: v, v: u, t: c.t }),
+            (Kind::Edge(u, v), false) => [
+                (c.a, Constraint::Edge { u, v, t }),
+                (c.b, Constraint::Edge { u: v, v: u, t }),
+            ],
+            (Kind::Vertex(v), true) => [
+                (c.a, Constraint::Vertex { v, t }),
+                (c.a, Constraint::AtVertex { v, t }),
+            ],
+            (Kind::Edge(u, v), true) => [
+                (c.a, Constraint::Edge { u, v, t }),
+                (c.a, Constraint::Traverses { u, v, t }),
             ],
         }
     }
@@ -507,7 +558,7 @@ impl<'a> Search<'a> {
             self.expanded += 1;
             let c = self.choose(k);
             let mut children = Vec::new();
-            for (i, constraint) in Self::split(&c) {
+            for (i, constraint) in self.split(&c) {
                 let Child::Made(child) = self.child(k, i, constraint)? else {
                     continue;
                 };
@@ -517,10 +568,14 @@ impl<'a> Search<'a> {
                     && child.conflicts.len() < parent.conflicts.len()
                 {
                     let parent = &mut self.nodes[k as usize];
-                    parent.paths[i] = child.paths[i].clone();
+                    for j in 0..child.paths.len() {
+                        if !Rc::ptr_eq(&parent.paths[j], &child.paths[j]) {
+                            parent.paths[j] = child.paths[j].clone();
+                            parent.mdds[j] = None;
+                        }
+                    }
                     parent.cost = child.cost;
                     parent.conflicts = child.conflicts;
-                    parent.mdds[i] = None;
                     continue 'again;
                 }
                 children.push(child);
