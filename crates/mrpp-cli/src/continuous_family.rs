@@ -21,6 +21,7 @@ pub(crate) static CONTINUOUS: Def<NavProblem> = Def {
     read_plan,
     info: Some(info),
     render: Some(render),
+    scene: Some(scene),
     lacam: false,
 };
 
@@ -102,4 +103,35 @@ fn render(inputs: &Inputs, plan_path: &Path, out: &Path) -> Result<u8, Fail> {
     write_atomic(out, &render_svg(read.problem.world(), Some(&read.plan)))?;
     println!("picture written to {}", out.display());
     Ok(0)
+}
+
+/// `mrpp view`: the viewer's scene of a continuous plan ([`crate::view`]): the workspace and
+/// obstacle polygons (y up), each robot's disc along its positions, and the validator's verdict.
+fn scene(inputs: &Inputs, plan_path: &Path) -> Result<serde_json::Value, Fail> {
+    use mrpp_core::Problem;
+    use serde_json::json;
+    let read = read_plan(inputs, plan_path)?;
+    let w = read.problem.world();
+    let agents: Vec<serde_json::Value> = w
+        .robots
+        .iter()
+        .zip(&read.plan.positions)
+        .map(
+            |(r, path)| json!({"radius": r.radius, "start": r.start, "goal": r.goal, "path": path}),
+        )
+        .collect();
+    let verdict = match read.problem.validate(&read.plan) {
+        Ok(m) => json!({"valid": true, "metrics": m}),
+        Err(v) => json!({"valid": false, "text": v.to_string()}),
+    };
+    Ok(json!({
+        "family": "continuous",
+        "title": format!("{} | {}", crate::output::file_name(inputs.world.as_deref().unwrap_or(Path::new("world"))), crate::output::file_name(plan_path)),
+        "about": read.about,
+        "bounds": w.workspace,
+        "y_up": true,
+        "polygons": w.obstacles,
+        "agents": agents,
+        "verdict": verdict,
+    }))
 }

@@ -100,6 +100,7 @@ pub(crate) trait Family: Sync {
     fn validate(&self, inputs: &Inputs, plan: &Path) -> Result<u8, Fail>;
     fn info(&self, inputs: &Inputs) -> Result<u8, Fail>;
     fn render(&self, inputs: &Inputs, plan: &Path, out: &Path) -> Result<u8, Fail>;
+    fn scene(&self, inputs: &Inputs, plan: &Path) -> Result<Value, Fail>;
 }
 
 /// A loaded problem, ready to plan on.
@@ -131,6 +132,9 @@ pub(crate) type InfoFn = fn(&Inputs) -> Result<u8, Fail>;
 /// `mrpp render` of a family: inputs, plan file, output picture.
 pub(crate) type RenderFn = fn(&Inputs, &Path, &Path) -> Result<u8, Fail>;
 
+/// `mrpp view` of a family: inputs and plan file to the viewer's scene ([`crate::view`]).
+pub(crate) type SceneFn = fn(&Inputs, &Path) -> Result<Value, Fail>;
+
 /// A family: its registry and how its files are read and written.
 pub(crate) struct Def<P: Problem + 'static> {
     pub(crate) name: &'static str,
@@ -140,6 +144,7 @@ pub(crate) struct Def<P: Problem + 'static> {
     pub(crate) read_plan: fn(&Inputs, &Path) -> Result<ReadPlan<P>, Fail>,
     pub(crate) info: Option<InfoFn>,
     pub(crate) render: Option<RenderFn>,
+    pub(crate) scene: Option<SceneFn>,
     /// Whether plans can be written as LaCAM text (grids only).
     pub(crate) lacam: bool,
 }
@@ -173,6 +178,10 @@ impl<P: Problem + 'static> Family for Def<P> {
     fn render(&self, inputs: &Inputs, plan: &Path, out: &Path) -> Result<u8, Fail> {
         let render = self.render.ok_or_else(|| self.lacks("render"))?;
         render(inputs, plan, out)
+    }
+    fn scene(&self, inputs: &Inputs, plan: &Path) -> Result<Value, Fail> {
+        let scene = self.scene.ok_or_else(|| self.lacks("view"))?;
+        scene(inputs, plan)
     }
 }
 

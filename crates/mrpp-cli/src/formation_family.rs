@@ -20,6 +20,7 @@ pub(crate) static FORMATION: Def<FormationProblem> = Def {
     read_plan,
     info: Some(info),
     render: Some(render),
+    scene: None,
     lacam: false,
 };
 

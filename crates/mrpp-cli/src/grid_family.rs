@@ -3,11 +3,11 @@
 
 use std::path::{Path, PathBuf};
 
-use serde_json::{Map, Value};
+use serde_json::{Map, Value, json};
 
 use mrpp_core::mapf::plan_file::RunInfo;
 use mrpp_core::mapf::search::distance::lower_bounds;
-use mrpp_core::{Instance, MapfProblem, Problem};
+use mrpp_core::{Instance, MapfProblem, Problem, VertexId};
 use mrpp_grid::GridMap;
 use mrpp_grid::io::lacam::{parse_lacam, write_lacam};
 use mrpp_grid::io::plan_json::{grid_envelope, read_grid_plan};
@@ -29,6 +29,7 @@ pub(crate) const fn def() -> Def<MapfProblem> {
         read_plan,
         info: Some(info),
         render: Some(render),
+        scene: Some(scene),
         lacam: true,
     }
 }
@@ -189,4 +190,66 @@ fn render(inputs: &Inputs, plan: &Path, out: &Path) -> Result<u8, Fail> {
     )?;
     println!("picture written to {}", out.display());
     Ok(0)
+}
+
+/// `mrpp view`: the viewer's scene of a grid plan ([`crate::view`]): blocked cells as rows of
+/// `#`/`.`, agents at cell centres (cell `(x, y)` spans `[x, x+1] x [y, y+1]`), and the
+/// validator's verdict.
+fn scene(inputs: &Inputs, plan: &Path) -> Result<Value, Fail> {
+    let read = read_plan(inputs, plan)?;
+    let map = GridMap::load(need(&inputs.map, "--map")?)?;
+    let inst = read.problem.instance();
+    let centre = |v: VertexId| {
+        let (x, y) = map.cell(v);
+        json!([f64::from(x) + 0.5, f64::from(y) + 0.5])
+    };
+    let rows: Vec<String> = (0..map.height())
+        .map(|y| {
+            (0..map.width())
+                .map(|x| if map.is_free(x, y) { '.' } else { '#' })
+                .collect()
+        })
+        .collect();
+    let agents: Vec<Value> = (0..inst.num_agents())
+        .map(|i| {
+            json!({
+                "radius": 0.38,
+                "start": centre(inst.starts[i]),
+                "goal": centre(inst.goals[i]),
+                "path": read.plan.paths[i].iter().map(|&v| centre(v)).collect::<Vec<_>>(),
+            })
+        })
+        .collect();
+    let verdict = match read.problem.validate(&read.plan) {
+        Ok(m) => json!({"valid": true, "metrics": m}),
+        Err(v) => {
+            let mut out = json!({"valid": false, "text": v.text});
+            if let mrpp_core::Violation::Conflict(c) = v.violation {
+                let at = match c.kind {
+                    mrpp_core::mapf::plan::ConflictKind::Vertex { v }
+                    | mrpp_core::mapf::plan::ConflictKind::Following { v } => centre(v),
+                    mrpp_core::mapf::plan::ConflictKind::Swap { u, v } => {
+                        let (a, b) = (centre(u), centre(v));
+                        json!([
+                            (a[0].as_f64().unwrap_or(0.0) + b[0].as_f64().unwrap_or(0.0)) / 2.0,
+                            (a[1].as_f64().unwrap_or(0.0) + b[1].as_f64().unwrap_or(0.0)) / 2.0
+                        ])
+                    }
+                };
+                out["conflict"] = json!({"t": c.t, "agents": [c.a, c.b], "at": at});
+            }
+            out
+        }
+    };
+    Ok(json!({
+        "family": "grid",
+        "title": format!("{} | {}", file_name(need(&inputs.map, "--map")?), file_name(plan)),
+        "about": read.about,
+        "bounds": [0.0, 0.0, f64::from(map.width()), f64::from(map.height())],
+        "y_up": false,
+        "cells": {"width": map.width(), "height": map.height(), "rows": rows},
+        "polygons": [],
+        "agents": agents,
+        "verdict": verdict,
+    }))
 }

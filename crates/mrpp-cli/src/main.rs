@@ -22,6 +22,7 @@ mod sweeps;
 mod toy_family;
 mod tree_family;
 mod verbs;
+mod view;
 
 use family::{Format, Inputs, SolveRequest};
 use output::Fail;
@@ -73,6 +74,23 @@ enum Command {
     /// Single-lane tree problems: generate, solve (PSW or GP), run a GP program, validate.
     #[command(subcommand)]
     Trees(tree_family::Trees),
+    /// Watch a plan: one self-contained HTML page (play, step, scrub, zoom), written to --out
+    /// (default: the plan's name with .html) or served on 127.0.0.1 with --serve.
+    /// Example: `mrpp view --map data/movingai/random-32-32-20.map --plan plan.json --out plan.html`.
+    View {
+        #[command(flatten)]
+        inputs: Inputs,
+        #[arg(long)]
+        plan: PathBuf,
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Serve the page on 127.0.0.1 (the address is printed) until interrupted.
+        #[arg(long)]
+        serve: bool,
+        /// Port for --serve (0: any free port).
+        #[arg(long, default_value_t = 0)]
+        port: u16,
+    },
     /// Draw a plan (map, starts, goals, paths) as an SVG picture.
     Render {
         #[command(flatten)]
@@ -175,6 +193,13 @@ fn run(command: Command) -> Result<u8, Fail> {
         Command::Planners { family } => family::list_planners(family.as_deref()),
         Command::Info { inputs } => verbs::info(&inputs),
         Command::Render { inputs, plan, out } => verbs::render(&inputs, &plan, &out),
+        Command::View {
+            inputs,
+            plan,
+            out,
+            serve,
+            port,
+        } => view::view(&inputs, &plan, out, serve, port),
         Command::Experiment(e) => experiment::run(e, None),
         Command::Bench(bench::Bench::Run(a)) => bench::run(*a, None),
         Command::Bench(bench::Bench::Merge { out, parts }) => merge(out, parts),

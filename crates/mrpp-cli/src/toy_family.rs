@@ -180,6 +180,7 @@ pub(crate) static TOY: Def<Line> = Def {
     },
     info: None,
     render: None,
+    scene: None,
     lacam: false,
 };
 

@@ -33,6 +33,7 @@ pub(crate) const fn def() -> Def<MapfProblem> {
         read_plan,
         info: None,
         render: None,
+        scene: None,
         lacam: false,
     }
 }

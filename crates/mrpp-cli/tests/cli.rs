@@ -462,3 +462,69 @@ fn hstar_table2_experiment_writes_its_files() {
     ]);
     assert_eq!(o.status.code(), Some(1));
 }
+
+#[test]
+fn view_writes_one_self_contained_page_with_the_plan_and_its_verdict() {
+    let dir = std::env::temp_dir().join(format!("mrpp-view-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let plan = dir.join("plan.json");
+    let map = "data/movingai/random-32-32-20.map";
+    let scen = "data/movingai/random-32-32-20-random-1.scen";
+    let run = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_mrpp"))
+            .args(args)
+            .current_dir(env!("CARGO_MANIFEST_DIR").to_string() + "/../..")
+            .output()
+            .unwrap()
+    };
+    let p = plan.to_str().unwrap();
+    let o = run(&[
+        "solve",
+        "--map",
+        map,
+        "--scen",
+        scen,
+        "--agents",
+        "12",
+        "--planner",
+        "lacam",
+        "--out",
+        p,
+    ]);
+    assert!(o.status.success(), "{o:?}");
+    let o = run(&["view", "--map", map, "--plan", p]);
+    assert!(o.status.success(), "{o:?}");
+    let html = std::fs::read_to_string(dir.join("plan.html")).unwrap();
+    assert!(html.contains("\"family\":\"grid\"") && html.contains("\"valid\":true"));
+    assert!(
+        !html.contains("__MRPP_SCENE__") && !html.contains("http://") && !html.contains("https://")
+    );
+    // An invalid plan (agent 1 jumps onto agent 0): the page carries the validator's verdict.
+    let mut v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&plan).unwrap()).unwrap();
+    let first = v["agents"][0]["path"][0].clone();
+    v["agents"][1]["path"] = serde_json::json!([v["agents"][1]["start"].clone(), first]);
+    v["metrics"] = serde_json::Value::Null;
+    let bad = dir.join("bad.json");
+    std::fs::write(&bad, v.to_string()).unwrap();
+    let out = dir.join("bad.html");
+    let o = run(&[
+        "view",
+        "--map",
+        map,
+        "--plan",
+        bad.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{o:?}");
+    let html = std::fs::read_to_string(&out).unwrap();
+    assert!(html.contains("\"valid\":false"), "no verdict");
+    // --out equal to the plan is refused and the plan is left alone.
+    let before = std::fs::read_to_string(&plan).unwrap();
+    let o = run(&["view", "--map", map, "--plan", p, "--out", p]);
+    assert_eq!(o.status.code(), Some(1));
+    assert_eq!(std::fs::read_to_string(&plan).unwrap(), before);
+    let _ = std::fs::remove_dir_all(&dir);
+}

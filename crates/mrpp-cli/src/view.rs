@@ -1,0 +1,79 @@
+//! `mrpp view`: one self-contained HTML page (the world and the plan embedded, no network) that
+//! plays a plan in any browser, written to a file or served on 127.0.0.1.
+//!
+//! A family turns its files into a *scene* (JSON), the one thing the page reads:
+//!
+//! ```text
+//! { "family", "title", "about",
+//!   "bounds": [x0, y0, x1, y1],          world units; "y_up": true flips the y axis
+//!   "cells": {"width", "height", "rows": ["#..", ...]}      grids: '#' blocked
+//!   "polygons": [[[x, y], ...], ...],    obstacles
+//!   "agents": [{"radius", "start": [x, y], "goal": [x, y], "path": [[x, y], ...]}],
+//!   "verdict": {"valid": true, "metrics": {...}} | {"valid": false, "text", "conflict"?: {"t", "agents", "at"}} }
+//! ```
+//!
+//! Path index = time step; an agent rests on its last point. The page (`assets/view.html`) draws
+//! on one canvas (no DOM node per agent), interpolates between steps, and keeps its state in
+//! `window.mrppView` (time, positions, screen mapping) for browser tests.
+
+use std::io::{Read, Write};
+use std::net::TcpListener;
+use std::path::{Path, PathBuf};
+
+use crate::family::{Inputs, family_of_inputs};
+use crate::output::{Fail, write_atomic};
+
+/// The page, with `__MRPP_SCENE__` where the scene goes.
+const PAGE: &str = include_str!("../assets/view.html");
+
+/// The page for `scene`.
+pub(crate) fn page(scene: &serde_json::Value) -> String {
+    // Inside <script>, "</" would end the element early.
+    let data = scene.to_string().replace("</", "<\\/");
+    PAGE.replace("__MRPP_SCENE__", &data)
+}
+
+/// `mrpp view`: writes the page to `out` (default: the plan's name with `.html`), and with
+/// `serve` serves it on 127.0.0.1:`port` (0: any free port) until interrupted.
+pub(crate) fn view(
+    inputs: &Inputs,
+    plan: &Path,
+    out: Option<PathBuf>,
+    serve: bool,
+    port: u16,
+) -> Result<u8, Fail> {
+    let scene = family_of_inputs(inputs)?.scene(inputs, plan)?;
+    let html = page(&scene);
+    if !serve || out.is_some() {
+        let out = out.unwrap_or_else(|| plan.with_extension("html"));
+        if out == plan {
+            return Err(Fail(format!(
+                "{}: --out would overwrite the plan file",
+                out.display()
+            )));
+        }
+        write_atomic(&out, &html)?;
+        println!("viewer written to {} (open it in a browser)", out.display());
+    }
+    if serve {
+        let listener = TcpListener::bind(("127.0.0.1", port))
+            .map_err(|e| Fail(format!("cannot listen on 127.0.0.1:{port}: {e}")))?;
+        let addr = listener
+            .local_addr()
+            .map_err(|e| Fail(format!("cannot read the listening address: {e}")))?;
+        println!("serving the viewer on http://{addr}/ (Ctrl-C stops)");
+        let _ = std::io::stdout().flush();
+        for stream in listener.incoming() {
+            let Ok(mut s) = stream else { continue };
+            let mut buf = [0u8; 4096];
+            let _ = s.read(&mut buf);
+            let header = format!(
+                "HTTP/1.1 200 OK\r\nContent-Type: text/html; charset=utf-8\r\nContent-Length: {}\r\nCache-Control: no-store\r\nConnection: close\r\n\r\n",
+                html.len()
+            );
+            let _ = s.write_all(header.as_bytes());
+            let _ = s.write_all(html.as_bytes());
+        }
+    }
+    Ok(0)
+}

@@ -1,0 +1,34 @@
+#!/usr/bin/env bash
+# Browser tests of `mrpp view`: makes a grid plan and a continuous plan, writes their viewer
+# pages, and checks them in headless Debian Chromium through playwright-core (view-test.mjs).
+# Screenshots go to target/view-screenshots/. Installs chromium (apt-get) and playwright-core
+# (npm) when missing; prints `SKIP: ...` and exits 0 when they cannot be installed.
+set -euo pipefail
+REPO=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
+cd "$REPO"
+MRPP=${MRPP:-$REPO/target/release/mrpp}
+skip() { echo "SKIP: $*"; exit 0; }
+
+[[ -x $MRPP ]] || cargo build --release -p mrpp-cli
+if [[ ! -x /usr/bin/chromium ]]; then
+    [[ $(id -u) == 0 ]] || skip "Chromium is not installed and this is not root"
+    apt-get install -y --no-install-recommends chromium >/tmp/mrpp-apt-chromium.log 2>&1 \
+        || skip "Debian's chromium cannot be installed ($(tail -1 /tmp/mrpp-apt-chromium.log))"
+fi
+command -v node >/dev/null || skip "node is not installed"
+if [[ ! -d tools/view-test/node_modules/playwright-core ]]; then
+    (cd tools/view-test && npm install --no-audit --no-fund >/tmp/mrpp-npm.log 2>&1) \
+        || skip "playwright-core cannot be installed from npm ($(tail -1 /tmp/mrpp-npm.log))"
+fi
+
+OUT=target/view-test
+mkdir -p "$OUT"
+"$MRPP" solve --map data/movingai/random-32-32-20.map --scen data/movingai/random-32-32-20-random-1.scen \
+    --agents 60 --planner lacam --out "$OUT/grid.json" >/dev/null
+"$MRPP" view --map data/movingai/random-32-32-20.map --plan "$OUT/grid.json" --out "$OUT/grid.html" >/dev/null
+"$MRPP" solve --world data/continuous/six-robots-four-obstacles.json --planner orca \
+    --out "$OUT/continuous.json" >/dev/null
+"$MRPP" view --world data/continuous/six-robots-four-obstacles.json --plan "$OUT/continuous.json" \
+    --out "$OUT/continuous.html" >/dev/null
+node tools/view-test/view-test.mjs target/view-screenshots \
+    "$OUT/grid.html" "$OUT/grid.json" "$OUT/continuous.html" "$OUT/continuous.json"

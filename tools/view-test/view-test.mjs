@@ -1,0 +1,91 @@
+// Browser test of `mrpp view` pages: for each (page, plan file) pair, load the page in headless
+// Chromium, move to t = 0, t = mid and t = end, and check that
+//  - the positions the page computes (window.mrppView.positions) are the plan file's positions,
+//  - the canvas pixel inside every agent's disc has that agent's colour (what is drawn),
+// and save a screenshot of each time step.
+// Usage: node view-test.mjs OUT_DIR PAGE.html PLAN.json [PAGE.html PLAN.json ...]
+import { chromium } from "playwright-core";
+import { readFileSync, mkdirSync } from "node:fs";
+import { basename } from "node:path";
+import { pathToFileURL } from "node:url";
+
+const [outDir, ...pairs] = process.argv.slice(2);
+if (!outDir || pairs.length === 0 || pairs.length % 2) {
+  console.error("usage: node view-test.mjs OUT_DIR PAGE.html PLAN.json [...]");
+  process.exit(2);
+}
+mkdirSync(outDir, { recursive: true });
+
+// A plan file's point of agent i at step t (an agent rests on its last point). Grid cells
+// [x, y] are drawn at their centres.
+function planPoint(plan, i, t) {
+  const path = plan.agents[i].path;
+  const p = path[Math.min(t, path.length - 1)];
+  return plan.family === "grid" ? [p[0] + 0.5, p[1] + 0.5] : p;
+}
+
+const browser = await chromium.launch({
+  executablePath: process.env.CHROMIUM || "/usr/bin/chromium",
+  args: ["--no-sandbox", "--disable-gpu", "--disable-background-networking",
+    "--disable-component-update", "--disable-sync", "--no-first-run", "--disable-quic"],
+});
+let failures = 0;
+for (let k = 0; k < pairs.length; k += 2) {
+  const [pagePath, planPath] = [pairs[k], pairs[k + 1]];
+  const plan = JSON.parse(readFileSync(planPath, "utf8"));
+  const page = await browser.newPage({ viewport: { width: 900, height: 700 } });
+  const errors = [];
+  page.on("pageerror", e => errors.push(String(e)));
+  await page.goto(pathToFileURL(pagePath).href);
+  await page.waitForFunction(() => window.mrppView !== undefined);
+  const steps = await page.evaluate(() => window.mrppView.steps);
+  const n = plan.agents.length;
+  for (const [label, t] of [["start", 0], ["mid", Math.floor(steps / 2)], ["end", steps]]) {
+    const state = await page.evaluate(t => {
+      const v = window.mrppView;
+      v.setTime(t);
+      const canvas = document.getElementById("canvas");
+      const g = canvas.getContext("2d");
+      const dpr = window.devicePixelRatio || 1;
+      const pos = v.positions(t);
+      // The drawn colour at each agent's centre, and the colour it should have.
+      const probe = document.createElement("canvas").getContext("2d");
+      const drawn = pos.map((p, i) => {
+        const [sx, sy] = v.toScreen(p[0], p[1]);
+        // Left of the centre, inside the disc, clear of the agent's number.
+        const [ex] = v.toScreen(p[0] + v.scene.agents[i].radius, p[1]);
+        const off = 0.7 * Math.abs(ex - sx);
+        const px = g.getImageData(Math.round((sx - off) * dpr), Math.round(sy * dpr), 1, 1).data;
+        probe.fillStyle = v.colour(i);
+        probe.fillRect(0, 0, 1, 1);
+        const want = probe.getImageData(0, 0, 1, 1).data;
+        return [Array.from(px.slice(0, 3)), Array.from(want.slice(0, 3))];
+      });
+      return { time: v.time, pos, drawn };
+    }, t);
+    const bad = [];
+    for (let i = 0; i < n; i++) {
+      const want = planPoint(plan, i, t);
+      const got = state.pos[i];
+      if (Math.abs(got[0] - want[0]) > 1e-6 || Math.abs(got[1] - want[1]) > 1e-6) {
+        bad.push(`agent ${i}: page ${JSON.stringify(got)}, plan ${JSON.stringify(want)}`);
+      }
+    }
+    // Discs may overlap (a later agent drawn over an earlier one): at least 80% must show
+    // their own colour exactly.
+    const [pix, want] = [state.drawn.map(d => d[0]), state.drawn.map(d => d[1])];
+    const close = (a, b, tol) => a.every((x, c) => Math.abs(x - b[c]) <= tol);
+    const exact = pix.filter((p, i) => close(p, want[i], 3)).length;
+    if (exact < Math.ceil(0.8 * n)) {
+      bad.push(`only ${exact} of ${n} agents show their colour inside their disc`);
+    }
+    const shot = `${outDir}/${basename(pagePath, ".html")}-${label}.png`;
+    await page.screenshot({ path: shot });
+    const ok = bad.length === 0 && errors.length === 0;
+    failures += ok ? 0 : 1;
+    console.log(`${ok ? "ok  " : "FAIL"} ${basename(pagePath)} t=${t} (${label}): ${n} agents${ok ? "" : "\n  " + [...bad.slice(0, 5), ...errors].join("\n  ")} -> ${shot}`);
+  }
+  await page.close();
+}
+await browser.close();
+process.exit(failures ? 1 : 0);
