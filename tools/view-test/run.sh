@@ -13,6 +13,8 @@ skip() { echo "SKIP: $*"; exit 0; }
 if [[ ! -x /usr/bin/chromium ]]; then
     [[ $(id -u) == 0 ]] || skip "Chromium is not installed and this is not root"
     apt-get install -y --no-install-recommends chromium >/tmp/mrpp-apt-chromium.log 2>&1 \
+        || { apt-get update >>/tmp/mrpp-apt-chromium.log 2>&1 \
+             && apt-get install -y --no-install-recommends chromium >>/tmp/mrpp-apt-chromium.log 2>&1; } \
         || skip "Debian's chromium cannot be installed ($(tail -1 /tmp/mrpp-apt-chromium.log))"
 fi
 command -v node >/dev/null || skip "node is not installed"
