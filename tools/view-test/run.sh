@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Browser tests of `mrpp view`: makes a grid plan and a continuous plan, writes their viewer
+# Browser tests of `mrpp view`: makes a grid, a continuous and a tree plan, writes their viewer
 # pages, and checks them in headless Debian Chromium through playwright-core (view-test.mjs).
 # Screenshots go to target/view-screenshots/. Installs chromium (apt-get) and playwright-core
 # (npm) when missing; prints `SKIP: ...` and exits 0 when they cannot be installed.
@@ -32,5 +32,8 @@ mkdir -p "$OUT"
     --out "$OUT/continuous.json" >/dev/null
 "$MRPP" view --world data/continuous/six-robots-four-obstacles.json --plan "$OUT/continuous.json" \
     --out "$OUT/continuous.html" >/dev/null
+"$MRPP" trees solve --instance data/trees/example.json --planner psw --out "$OUT/trees.json" >/dev/null
+"$MRPP" view --instance data/trees/example.json --plan "$OUT/trees.json" --out "$OUT/trees.html" >/dev/null
 node tools/view-test/view-test.mjs target/view-screenshots \
-    "$OUT/grid.html" "$OUT/grid.json" "$OUT/continuous.html" "$OUT/continuous.json"
+    "$OUT/grid.html" "$OUT/grid.json" "$OUT/continuous.html" "$OUT/continuous.json" \
+    "$OUT/trees.html" "$OUT/trees.json"

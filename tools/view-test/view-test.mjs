@@ -18,9 +18,11 @@ mkdirSync(outDir, { recursive: true });
 
 // A plan file's point of agent i at step t (an agent rests on its last point). Grid cells
 // [x, y] are drawn at their centres.
-function planPoint(plan, i, t) {
+// Trees: nodes are drawn where the page's layout puts them (`scene.nodes[id]`).
+function planPoint(plan, i, t, scene) {
   const path = plan.agents[i].path;
   const p = path[Math.min(t, path.length - 1)];
+  if (plan.family === "trees") return scene.nodes[p];
   return plan.family === "grid" ? [p[0] + 0.5, p[1] + 0.5] : p;
 }
 
@@ -39,6 +41,7 @@ for (let k = 0; k < pairs.length; k += 2) {
   await page.goto(pathToFileURL(pagePath).href);
   await page.waitForFunction(() => window.mrppView !== undefined);
   const steps = await page.evaluate(() => window.mrppView.steps);
+  const scene = await page.evaluate(() => window.mrppView.scene);
   const n = plan.agents.length;
   for (const [label, t] of [["start", 0], ["mid", Math.floor(steps / 2)], ["end", steps]]) {
     const state = await page.evaluate(t => {
@@ -65,7 +68,7 @@ for (let k = 0; k < pairs.length; k += 2) {
     }, t);
     const bad = [];
     for (let i = 0; i < n; i++) {
-      const want = planPoint(plan, i, t);
+      const want = planPoint(plan, i, t, scene);
       const got = state.pos[i];
       if (Math.abs(got[0] - want[0]) > 1e-6 || Math.abs(got[1] - want[1]) > 1e-6) {
         bad.push(`agent ${i}: page ${JSON.stringify(got)}, plan ${JSON.stringify(want)}`);

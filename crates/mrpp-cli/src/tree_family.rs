@@ -33,7 +33,7 @@ pub(crate) const fn def() -> Def<MapfProblem> {
         read_plan,
         info: None,
         render: None,
-        scene: None,
+        scene: Some(scene),
         lacam: false,
     }
 }
@@ -450,4 +450,83 @@ fn robot_count(robots: Option<usize>, leaf_multiplier: Option<f64>) -> Result<Ro
         ))),
         (None, Some(m)) => Ok(RobotCount::PerLeaf(m)),
     }
+}
+
+/// A tidy layout of the tree rooted at node 0: depth down the y axis (1.2 apart), leaves one
+/// apart in depth-first order, every parent centred over its children.
+fn tidy_layout(tree: &TreeInstance) -> Vec<[f64; 2]> {
+    let n = tree.num_nodes();
+    let mut adj = vec![Vec::new(); n];
+    for &(a, b) in tree.edges() {
+        adj[a as usize].push(b as usize);
+        adj[b as usize].push(a as usize);
+    }
+    for a in &mut adj {
+        a.sort_unstable();
+    }
+    let mut pos = vec![[0.0, 0.0]; n];
+    let mut next_leaf = 0.0;
+    // Iterative post-order from the root: (node, parent, children done).
+    let mut stack = vec![(0usize, usize::MAX, false)];
+    let mut depth = vec![0usize; n];
+    while let Some((v, parent, done)) = stack.pop() {
+        let children: Vec<usize> = adj[v].iter().copied().filter(|&c| c != parent).collect();
+        if !done {
+            stack.push((v, parent, true));
+            for &c in children.iter().rev() {
+                depth[c] = depth[v] + 1;
+                stack.push((c, v, false));
+            }
+            continue;
+        }
+        let x = if children.is_empty() {
+            next_leaf += 1.0;
+            next_leaf - 1.0
+        } else {
+            (pos[children[0]][0] + pos[children[children.len() - 1]][0]) / 2.0
+        };
+        pos[v] = [x, depth[v] as f64 * 1.2];
+    }
+    pos
+}
+
+/// `mrpp view`: the viewer's scene of a tree plan ([`crate::view`]): the tree in a tidy layout
+/// (edges as segments, nodes as dots), robots on nodes, and the validator's verdict.
+fn scene(inputs: &Inputs, plan_path: &Path) -> Result<serde_json::Value, Fail> {
+    use mrpp_core::Problem;
+    use serde_json::json;
+    let tree = TreeInstance::load(instance_path(inputs)?)?;
+    let read = read_plan(inputs, plan_path)?;
+    let pos = tidy_layout(&tree);
+    let inst = read.problem.instance();
+    let at = |v: mrpp_core::VertexId| pos[v as usize];
+    let agents: Vec<serde_json::Value> = (0..inst.num_agents())
+        .map(|i| {
+            json!({
+                "radius": 0.3,
+                "start": at(inst.starts[i]),
+                "goal": at(inst.goals[i]),
+                "path": read.plan.paths[i].iter().map(|&v| at(v)).collect::<Vec<_>>(),
+            })
+        })
+        .collect();
+    let segments: Vec<[[f64; 2]; 2]> = tree.edges().iter().map(|&(a, b)| [at(a), at(b)]).collect();
+    let max_x = pos.iter().map(|p| p[0]).fold(0.0, f64::max);
+    let max_y = pos.iter().map(|p| p[1]).fold(0.0, f64::max);
+    let verdict = match read.problem.validate(&read.plan) {
+        Ok(m) => json!({"valid": true, "metrics": m}),
+        Err(v) => json!({"valid": false, "text": v.text}),
+    };
+    Ok(json!({
+        "family": "trees",
+        "title": format!("{} | {}", file_name(instance_path(inputs)?), file_name(plan_path)),
+        "about": read.about,
+        "bounds": [-0.8, -0.8, max_x + 0.8, max_y + 0.8],
+        "y_up": false,
+        "polygons": [],
+        "segments": segments,
+        "nodes": pos,
+        "agents": agents,
+        "verdict": verdict,
+    }))
 }

@@ -8,6 +8,7 @@
 //!   "bounds": [x0, y0, x1, y1],          world units; "y_up": true flips the y axis
 //!   "cells": {"width", "height", "rows": ["#..", ...]}      grids: '#' blocked
 //!   "polygons": [[[x, y], ...], ...],    obstacles
+//!   "segments": [[[x, y], [x, y]], ...], "nodes": [[x, y], ...]   graphs (trees): edges, nodes
 //!   "agents": [{"radius", "start": [x, y], "goal": [x, y], "path": [[x, y], ...]}],
 //!   "verdict": {"valid": true, "metrics": {...}} | {"valid": false, "text", "conflict"?: {"t", "agents", "at"}} }
 //! ```
