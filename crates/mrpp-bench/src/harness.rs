@@ -217,9 +217,16 @@ pub fn run_shard<S: Sweep>(
 }
 
 /// The progress file of a shard's run in its output folder: one line per finished job, written
-/// as the job finishes, so an interrupted run keeps its work and resumes from it.
-pub fn progress_file(shard: Shard) -> String {
-    format!("progress-{}-of-{}.jsonl", shard.index, shard.count)
+/// as the job finishes, so an interrupted run keeps its work and resumes from it. Its name holds
+/// a hash of the sweep's whole configuration and seed, so a rerun with other settings (seed,
+/// time limit, a peer's command, ...) starts afresh instead of reusing rows made with the old
+/// ones.
+pub fn progress_file<S: Sweep>(sweep: &S, seed: u64, shard: Shard) -> String {
+    let tag = mrpp_core::seeds::derive_seed(seed, &format!("{}\n{}", sweep.name(), sweep.config()));
+    format!(
+        "progress-{}-of-{}-{tag:016x}.jsonl",
+        shard.index, shard.count
+    )
 }
 
 /// One line of a progress file.

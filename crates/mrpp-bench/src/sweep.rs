@@ -26,7 +26,8 @@
 //! A *peer* is any solver that writes the LaCAM text result (`solved=`, `starts=`, `goals=`,
 //! `solution=`): the placeholders `{map}`, `{scen}`, `{agents}`, `{seed}` (the job's seed modulo
 //! 2^31), `{time_limit}` (seconds) and `{out}` (a fresh file) are filled in (paths shell-quoted)
-//! and the command runs under `sh -c`, killed after twice the time limit plus 10 s. Its result is
+//! and the command runs under `sh -c` in its own process group, which is killed after twice the
+//! time limit plus 10 s (recorded as `time_limit`). Its result is
 //! read, checked to be for the same agents, and validated like mrpp's own plans; its runtime is
 //! the file's `comp_time` (ms) when present, else the command's wall time. A peer's missing or
 //! unreadable result is `gave_up`; a result the validator rejects is `invalid` (a peer's bug is
@@ -296,6 +297,15 @@ impl GridSweep {
                 });
             }
         }
+        let mut seen_names = std::collections::BTreeSet::new();
+        for inst in &instances {
+            if !seen_names.insert(inst.name.clone()) {
+                return Err(Error::Param(format!(
+                    "instance `{}` is listed twice (map and scenario file names and the agent count name an instance)",
+                    inst.name
+                )));
+            }
+        }
         let mut planners = cfg
             .planners
             .iter()
@@ -398,7 +408,7 @@ impl Sweep for GridSweep {
         let seed = derive_seed(self.cfg.seed, &self.key(job));
         let b = match &self.planners[p] {
             Solver::Own(b) => b,
-            Solver::Peer(peer) => return Ok(self.run_peer(peer, i, run, seed)),
+            Solver::Peer(peer) => return Ok(self.run_peer(peer, i, run, seed, job)),
         };
         let ctx = Ctx::new(
             seed,
@@ -627,7 +637,14 @@ impl GridSweep {
     }
 
     /// Runs peer `peer` on instance `i` (module doc).
-    fn run_peer(&self, peer: &PeerSpec, i: usize, run: usize, seed: u64) -> RunRecord {
+    fn run_peer(
+        &self,
+        peer: &PeerSpec,
+        i: usize,
+        run: usize,
+        seed: u64,
+        job: &(usize, usize, usize),
+    ) -> RunRecord {
         let inst = &self.instances[i];
         let n = inst.problem.num_agents();
         let record = |status: &str, m: Option<mrpp_core::Metrics>, runtime_ms: f64| RunRecord {
@@ -645,11 +662,13 @@ impl GridSweep {
             sum_of_moves: m.map(|m| m.sum_of_moves),
             runtime_ms,
         };
+        // One folder per job (its key is unique in the sweep), emptied first.
         let dir = std::env::temp_dir().join(format!(
-            "mrpp-peer-{}-{}",
+            "mrpp-peer-{}-{:016x}",
             std::process::id(),
-            derive_seed(seed, &peer.name)
+            derive_seed(0, &self.key(job))
         ));
+        let _ = std::fs::remove_dir_all(&dir);
         if std::fs::create_dir_all(&dir).is_err() {
             return record("gave_up", None, 0.0);
         }
@@ -667,41 +686,59 @@ impl GridSweep {
         }
         let started = std::time::Instant::now();
         let limit = Duration::from_secs_f64(self.cfg.time_limit * 2.0 + 10.0);
-        let finished = std::process::Command::new("sh")
-            .arg("-c")
-            .arg(&command)
-            .stdin(std::process::Stdio::null())
-            .stdout(std::process::Stdio::null())
-            .stderr(std::process::Stdio::null())
-            .spawn()
-            .map(|mut child| {
-                loop {
-                    match child.try_wait() {
-                        Ok(Some(_)) => break true,
-                        Ok(None) if started.elapsed() < limit => {
-                            std::thread::sleep(Duration::from_millis(5))
-                        }
-                        _ => {
-                            let _ = child.kill();
-                            let _ = child.wait();
-                            break false;
+        // Its own process group, so that a timeout kills whatever the command started.
+        let finished = {
+            use std::os::unix::process::CommandExt as _;
+            std::process::Command::new("sh")
+                .arg("-c")
+                .arg(&command)
+                .process_group(0)
+                .stdin(std::process::Stdio::null())
+                .stdout(std::process::Stdio::null())
+                .stderr(std::process::Stdio::null())
+                .spawn()
+                .map(|mut child| {
+                    loop {
+                        match child.try_wait() {
+                            Ok(Some(_)) => break Some(true),
+                            Ok(None) if started.elapsed() < limit => {
+                                std::thread::sleep(Duration::from_millis(5))
+                            }
+                            _ => {
+                                let _ = std::process::Command::new("kill")
+                                    .args(["-KILL", "--", &format!("-{}", child.id())])
+                                    .status();
+                                let _ = child.kill();
+                                let _ = child.wait();
+                                break Some(false);
+                            }
                         }
                     }
-                }
-            })
-            .unwrap_or(false);
+                })
+                .unwrap_or(None)
+        };
         let wall_ms = started.elapsed().as_secs_f64() * 1e3;
         let text = std::fs::read_to_string(&out).ok();
         let _ = std::fs::remove_dir_all(&dir);
-        let Some(text) = text.filter(|_| finished) else {
+        match finished {
+            Some(false) => return record("time_limit", None, wall_ms),
+            None => return record("gave_up", None, wall_ms),
+            Some(true) => {}
+        }
+        let Some(text) = text else {
             return record("gave_up", None, wall_ms);
         };
+        // A peer's own runtime, when it is a sane number of milliseconds.
         let runtime_ms = text
             .lines()
             .find_map(|l| l.strip_prefix("comp_time="))
             .and_then(|v| v.trim().parse::<f64>().ok())
+            .filter(|&ms| ms.is_finite() && (0.0..1e12).contains(&ms))
             .unwrap_or(wall_ms);
-        if text.lines().any(|l| l.trim() == "solved=0") {
+        if text
+            .lines()
+            .any(|l| matches!(l.trim(), "solved=0" | "solved=false"))
+        {
             let status = if runtime_ms >= self.cfg.time_limit * 1e3 {
                 "time_limit"
             } else {

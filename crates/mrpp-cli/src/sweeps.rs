@@ -102,8 +102,9 @@ fn run_jobs<S: Sweep>(
     let mine = (0..total).filter(|&j| shard.owns(j)).count();
     std::fs::create_dir_all(out)
         .map_err(|e| Fail(format!("{}: cannot create: {e}", out.display())))?;
-    let progress = out.join(progress_file(shard));
+    let progress = out.join(progress_file(sweep, seed, shard));
     let previous = read_progress(sweep, shard, &progress)?;
+    cut_partial_line(&progress)?;
     let log = std::fs::OpenOptions::new()
         .create(true)
         .append(true)
@@ -148,6 +149,23 @@ fn run_jobs<S: Sweep>(
         wall_seconds: wall,
     };
     Ok((rows, manifest))
+}
+
+/// Cuts a last line that an interruption left without its newline (read_progress skipped it), so
+/// that appended lines start on a line of their own.
+fn cut_partial_line(path: &Path) -> Result<(), Fail> {
+    let Ok(bytes) = std::fs::read(path) else {
+        return Ok(());
+    };
+    if bytes.is_empty() || bytes.ends_with(b"\n") {
+        return Ok(());
+    }
+    let keep = bytes.iter().rposition(|&b| b == b'\n').map_or(0, |k| k + 1);
+    std::fs::OpenOptions::new()
+        .write(true)
+        .open(path)
+        .and_then(|f| f.set_len(keep as u64))
+        .map_err(|e| Fail(format!("{}: cannot repair: {e}", path.display())))
 }
 
 /// Writes every file under `out` (creating folders), each atomically.

@@ -211,19 +211,35 @@ fn a_peer_command_joins_the_sweep_and_an_interrupted_run_resumes() {
             "{f}"
         );
     }
-    // Interrupted after three jobs: the rerun runs only the other five.
-    let progress = out.join("progress-1-of-1.jsonl");
-    let kept: String = std::fs::read_to_string(&progress)
+    // Interrupted after three jobs, in the middle of the fourth line: the rerun runs only the
+    // other five, and a second rerun finds all eight.
+    let progress = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .find(|p| {
+            p.file_name()
+                .unwrap()
+                .to_string_lossy()
+                .starts_with("progress-1-of-1-")
+        })
+        .expect("a progress file");
+    let lines: Vec<String> = std::fs::read_to_string(&progress)
         .unwrap()
         .lines()
-        .take(3)
-        .map(|l| format!("{l}\n"))
+        .map(String::from)
         .collect();
+    let mut kept: String = lines[..3].iter().map(|l| format!("{l}\n")).collect();
+    kept.push_str(&lines[3][..10]);
     std::fs::write(&progress, kept).unwrap();
     std::fs::remove_file(out.join("records.csv")).unwrap();
     let (stdout, _) = mrpp(&args, 0);
     assert!(
         stdout.contains("resuming: 3 of 8 jobs already done"),
+        "{stdout}"
+    );
+    let (stdout, _) = mrpp(&args, 0);
+    assert!(
+        stdout.contains("resuming: 8 of 8 jobs already done"),
         "{stdout}"
     );
     assert_eq!(

@@ -171,6 +171,9 @@ pub struct Report {
     pub proven_optimal: bool,
     /// Configurations generated.
     pub configurations: usize,
+    /// The best objective value the configuration search itself reached (with refinement the
+    /// returned plan, chosen by sum of costs, may differ).
+    pub search_cost: u64,
     /// LNS steps taken, and those that lowered the sum of costs (0 without refinement).
     pub lns_steps: u64,
     pub lns_improvements: u64,
@@ -222,6 +225,7 @@ impl Planner<MapfProblem> for Lacam {
             m.insert("proven_optimal".into(), r.proven_optimal.into());
             m.insert("configurations".into(), r.configurations.into());
             if r.lns_steps > 0 {
+                m.insert("search_cost".into(), r.search_cost.into());
                 m.insert("lns_steps".into(), r.lns_steps.into());
                 m.insert("lns_improvements".into(), r.lns_improvements.into());
             }
@@ -438,6 +442,7 @@ pub(crate) fn search(
         final_cost,
         proven_optimal,
         configurations: s.nodes.len(),
+        search_cost: s.nodes[goal as usize].g,
         lns_steps: lns.as_ref().map_or(0, |l| l.counts().0),
         lns_improvements: lns.as_ref().map_or(0, |l| l.counts().1),
     };

@@ -451,9 +451,12 @@ impl<'a> Search<'a> {
         }
         let cost = paths.iter().map(|p| p.len() as u64 - 1).sum();
         let lb = lbs.iter().sum();
+        // An MDD depends on the agent's constraints: a positive constraint changes everyone's.
         let mut mdds = parent.mdds.clone();
-        for &j in &changed {
-            mdds[j] = None;
+        if implied.is_empty() {
+            mdds[i] = None;
+        } else {
+            mdds.iter_mut().for_each(|m| *m = None);
         }
         Ok(Child::Made(Node {
             parent: k,

@@ -193,7 +193,8 @@ impl<'g> GoalDistances<'g> {
     pub fn warm_up(&mut self, at: &[VertexId]) {
         use rayon::prelude::*;
         let (g, goals) = (self.graph, &self.goals);
-        let finish = goals.len().saturating_mul(g.num_vertices()) <= COMPLETE_ENTRIES;
+        let finish = at.len() == goals.len()
+            && goals.len().saturating_mul(g.num_vertices()) <= COMPLETE_ENTRIES;
         self.tables
             .par_iter_mut()
             .zip(at.par_iter())
