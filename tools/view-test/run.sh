@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# Browser tests of `mrpp view`: makes a grid, a continuous and a tree plan, writes their viewer
+# Browser tests of `mrpp view`: makes a grid, a continuous, a tree and a formation plan, writes their viewer
 # pages, and checks them in headless Debian Chromium through playwright-core (view-test.mjs).
 # Screenshots go to target/view-screenshots/. Installs chromium (apt-get) and playwright-core
-# (npm) when missing; prints `SKIP: ...` and exits 0 when they cannot be installed.
+# (npm) when missing; prints `SKIP: ...` and exits 0 when they cannot be installed. Last, a
+# 10,000-agent warehouse plan must open and play (its frame time is printed).
 set -euo pipefail
 REPO=$(cd "$(dirname "${BASH_SOURCE[0]}")/../.." && pwd)
 cd "$REPO"
@@ -34,6 +35,15 @@ mkdir -p "$OUT"
     --out "$OUT/continuous.html" >/dev/null
 "$MRPP" trees solve --instance data/trees/example.json --planner psw --out "$OUT/trees.json" >/dev/null
 "$MRPP" view --instance data/trees/example.json --plan "$OUT/trees.json" --out "$OUT/trees.html" >/dev/null
+"$MRPP" solve --formation data/formation/var_density2-8.json --planner ga --out "$OUT/formation.json" >/dev/null
+"$MRPP" view --formation data/formation/var_density2-8.json --plan "$OUT/formation.json" --out "$OUT/formation.html" >/dev/null
 node tools/view-test/view-test.mjs target/view-screenshots \
     "$OUT/grid.html" "$OUT/grid.json" "$OUT/continuous.html" "$OUT/continuous.json" \
-    "$OUT/trees.html" "$OUT/trees.json"
+    "$OUT/trees.html" "$OUT/trees.json" "$OUT/formation.html" "$OUT/formation.json"
+
+# 10,000 agents on warehouse-20-40-10-2-2: the page must open and play; the frame time is printed.
+"$MRPP" gen scen --map data/movingai/warehouse-20-40-10-2-2.map --agents 10000 --seed 0 --out "$OUT/warehouse-10k.scen" >/dev/null
+"$MRPP" solve --map data/movingai/warehouse-20-40-10-2-2.map --scen "$OUT/warehouse-10k.scen" --planner lacam \
+    --time-limit 60 --out "$OUT/warehouse-10k.json" >/dev/null
+"$MRPP" view --map data/movingai/warehouse-20-40-10-2-2.map --plan "$OUT/warehouse-10k.json" --out "$OUT/warehouse-10k.html" >/dev/null
+node tools/view-test/view-test.mjs --perf "$OUT/warehouse-10k.html"

@@ -20,7 +20,7 @@ pub(crate) static FORMATION: Def<FormationProblem> = Def {
     read_plan,
     info: Some(info),
     render: Some(render),
-    scene: None,
+    scene: Some(scene),
     lacam: false,
 };
 
@@ -108,4 +108,105 @@ fn render(inputs: &Inputs, plan_path: &Path, out: &Path) -> Result<u8, Fail> {
     write_atomic(out, &render_svg(&f.map, &read.problem, Some(&read.plan)))?;
     println!("picture written to {}", out.display());
     Ok(0)
+}
+
+/// Frames a formation plan is sampled at for the viewer.
+const FRAMES: usize = 240;
+
+/// The point at arc length fraction `f` (0..=1) along `line`.
+fn along(line: &[[f64; 2]], f: f64) -> [f64; 2] {
+    let total: f64 = line.windows(2).map(|w| dist(w[0], w[1])).sum();
+    let mut left = f.clamp(0.0, 1.0) * total;
+    for w in line.windows(2) {
+        let d = dist(w[0], w[1]);
+        if left <= d && d > 0.0 {
+            let g = left / d;
+            return [
+                w[0][0] + (w[1][0] - w[0][0]) * g,
+                w[0][1] + (w[1][1] - w[0][1]) * g,
+            ];
+        }
+        left -= d;
+    }
+    *line.last().unwrap_or(&[0.0, 0.0])
+}
+
+fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+/// `mrpp view`: the viewer's scene of a formation plan ([`crate::view`]): the map's obstacles,
+/// the roadmap's corridors, and each robot along its corridors' centre lines under the paper's
+/// timing (waiting at merges), sampled at 240 frames from 0 to `c_max`.
+fn scene(inputs: &Inputs, plan_path: &Path) -> Result<serde_json::Value, Fail> {
+    use mrpp_core::Problem;
+    use serde_json::json;
+    let (f, path) = formation(inputs)?;
+    let read = read_plan(inputs, plan_path)?;
+    let r = f.problem.roadmap();
+    let (lo, hi) = f.map.bounds();
+    let mut polygons: Vec<Vec<[f64; 2]>> =
+        f.map.obstacles.iter().map(|o| o.vertices.clone()).collect();
+    polygons.retain(|p| p.len() >= 3);
+    let segments: Vec<[[f64; 2]; 2]> = r
+        .edges
+        .iter()
+        .flat_map(|e| e.polyline.windows(2).map(|w| [w[0], w[1]]))
+        .collect();
+    let verdict = match read.problem.validate(&read.plan) {
+        Ok(m) => json!({"valid": true, "metrics": m}),
+        Err(v) => json!({"valid": false, "text": v.to_string()}),
+    };
+    let radius = f.problem.radius();
+    let agents: Vec<serde_json::Value> = match f.problem.schedule(&read.plan.paths) {
+        Err(_) => Vec::new(),
+        Ok(schedule) => {
+            let end = schedule
+                .iter()
+                .filter_map(|s| s.last().map(|&(_, a)| a))
+                .fold(0.0, f64::max);
+            read.plan
+                .paths
+                .iter()
+                .zip(&schedule)
+                .map(|(p, times)| {
+                    let at = |tau: f64| -> [f64; 2] {
+                        for (k, &(depart, arrive)) in times.iter().enumerate() {
+                            if tau < depart {
+                                return r.points[p[k] as usize];
+                            }
+                            if tau < arrive {
+                                let e = r.edge_between(p[k], p[k + 1]).expect("a validated path");
+                                let edge = &r.edges[e as usize];
+                                let frac = (tau - depart) / (arrive - depart).max(1e-12);
+                                let frac = if edge.u == p[k] { frac } else { 1.0 - frac };
+                                return along(&edge.polyline, frac);
+                            }
+                        }
+                        r.points[*p.last().expect("a path") as usize]
+                    };
+                    let frames: Vec<[f64; 2]> = (0..=FRAMES)
+                        .map(|k| at(end * k as f64 / FRAMES as f64))
+                        .collect();
+                    json!({
+                        "radius": radius,
+                        "start": r.points[p[0] as usize],
+                        "goal": r.points[*p.last().expect("a path") as usize],
+                        "path": frames,
+                    })
+                })
+                .collect()
+        }
+    };
+    Ok(json!({
+        "family": "formation",
+        "title": format!("{} | {}", file_name(path), file_name(plan_path)),
+        "about": read.about,
+        "bounds": [lo[0], lo[1], hi[0], hi[1]],
+        "y_up": true,
+        "polygons": polygons,
+        "segments": segments,
+        "agents": agents,
+        "verdict": verdict,
+    }))
 }

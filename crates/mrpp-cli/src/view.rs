@@ -10,6 +10,7 @@
 //!   "polygons": [[[x, y], ...], ...],    obstacles
 //!   "segments": [[[x, y], [x, y]], ...], "nodes": [[x, y], ...]   graphs (trees): edges, nodes
 //!   "agents": [{"radius", "start": [x, y], "goal": [x, y], "path": [[x, y], ...]}],
+//!             grids give "cells": [y * width + x, ...] instead of "path" (cell centres)
 //!   "verdict": {"valid": true, "metrics": {...}} | {"valid": false, "text", "conflict"?: {"t", "agents", "at"}} }
 //! ```
 //!

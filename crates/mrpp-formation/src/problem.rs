@@ -243,6 +243,46 @@ impl FormationProblem {
         Ok(Evaluation { per_robot, c_max })
     }
 
+    /// When each robot of `paths` leaves each vertex of its path and reaches the next one, under
+    /// the timing of [`FormationProblem::evaluate`]: per robot, per edge of its path,
+    /// `(departure, arrival)`. A robot arriving at a vertex waits there until its departure (the
+    /// group's event time). Used to animate plans.
+    ///
+    /// # Errors
+    /// The first rule the paths break.
+    pub fn schedule(&self, paths: &[Vec<u32>]) -> Result<Vec<Vec<(f64, f64)>>, FormationViolation> {
+        self.evaluate(paths)?;
+        let edges = self.path_edges(paths)?;
+        let mut usage: FxHashMap<u32, (usize, usize, usize, usize)> = FxHashMap::default();
+        for (i, es) in edges.iter().enumerate() {
+            for &(e, forward) in es {
+                let u = usage.entry(e).or_insert((0, 0, usize::MAX, usize::MAX));
+                if forward {
+                    u.0 += 1;
+                    u.2 = u.2.min(i);
+                } else {
+                    u.1 += 1;
+                    u.3 = u.3.min(i);
+                }
+            }
+        }
+        let times = self.event_times(paths, &edges, &usage)?;
+        Ok(paths
+            .iter()
+            .zip(&edges)
+            .map(|(p, es)| {
+                p.windows(2)
+                    .zip(es)
+                    .map(|(w, &(e, _))| {
+                        let n = usage[&e].0 + usage[&e].1;
+                        let depart = times[&w[0]];
+                        (depart, depart + self.edge_cost(e, n))
+                    })
+                    .collect()
+            })
+            .collect())
+    }
+
     /// Each path's edges `(edge id, forward)`, after checking ends, edges and revisits.
     #[allow(clippy::type_complexity)]
     fn path_edges(&self, paths: &[Vec<u32>]) -> Result<Vec<Vec<(u32, bool)>>, FormationViolation> {
