@@ -10,7 +10,7 @@ use mrpp_continuous::render::render_svg;
 use mrpp_continuous::{NavProblem, World};
 
 use crate::family::{Def, Inputs, Loaded, ReadPlan};
-use crate::output::{Fail, file_name, write_atomic};
+use crate::output::{Fail, file_name};
 
 /// The continuous family.
 pub(crate) static CONTINUOUS: Def<NavProblem> = Def {
@@ -98,11 +98,9 @@ fn info(inputs: &Inputs) -> Result<u8, Fail> {
 }
 
 /// `mrpp render --world W --plan P --out F.svg`.
-fn render(inputs: &Inputs, plan_path: &Path, out: &Path) -> Result<u8, Fail> {
+fn render(inputs: &Inputs, plan_path: &Path) -> Result<String, Fail> {
     let read = read_plan(inputs, plan_path)?;
-    write_atomic(out, &render_svg(read.problem.world(), Some(&read.plan)))?;
-    println!("picture written to {}", out.display());
-    Ok(0)
+    Ok(render_svg(read.problem.world(), Some(&read.plan)))
 }
 
 /// `mrpp view`: the viewer's scene of a continuous plan ([`crate::view`]): the workspace and

@@ -99,7 +99,7 @@ pub(crate) trait Family: Sync {
     fn solve(&self, req: &SolveRequest) -> Result<u8, Fail>;
     fn validate(&self, inputs: &Inputs, plan: &Path) -> Result<u8, Fail>;
     fn info(&self, inputs: &Inputs) -> Result<u8, Fail>;
-    fn render(&self, inputs: &Inputs, plan: &Path, out: &Path) -> Result<u8, Fail>;
+    fn render(&self, inputs: &Inputs, plan: &Path) -> Result<String, Fail>;
     fn scene(&self, inputs: &Inputs, plan: &Path) -> Result<Value, Fail>;
 }
 
@@ -129,8 +129,8 @@ pub(crate) struct ReadPlan<P: Problem> {
 
 /// `mrpp info` of a family.
 pub(crate) type InfoFn = fn(&Inputs) -> Result<u8, Fail>;
-/// `mrpp render` of a family: inputs, plan file, output picture.
-pub(crate) type RenderFn = fn(&Inputs, &Path, &Path) -> Result<u8, Fail>;
+/// `mrpp render` of a family: inputs and plan file to an SVG picture.
+pub(crate) type RenderFn = fn(&Inputs, &Path) -> Result<String, Fail>;
 
 /// `mrpp view` of a family: inputs and plan file to the viewer's scene ([`crate::view`]).
 pub(crate) type SceneFn = fn(&Inputs, &Path) -> Result<Value, Fail>;
@@ -175,9 +175,9 @@ impl<P: Problem + 'static> Family for Def<P> {
         let info = self.info.ok_or_else(|| self.lacks("info"))?;
         info(inputs)
     }
-    fn render(&self, inputs: &Inputs, plan: &Path, out: &Path) -> Result<u8, Fail> {
+    fn render(&self, inputs: &Inputs, plan: &Path) -> Result<String, Fail> {
         let render = self.render.ok_or_else(|| self.lacks("render"))?;
-        render(inputs, plan, out)
+        render(inputs, plan)
     }
     fn scene(&self, inputs: &Inputs, plan: &Path) -> Result<Value, Fail> {
         let scene = self.scene.ok_or_else(|| self.lacks("view"))?;

@@ -9,7 +9,7 @@ use mrpp_formation::world::{Formation, formation_envelope, read_formation_plan};
 use mrpp_formation::{FormationProblem, render::render_svg};
 
 use crate::family::{Def, Inputs, Loaded, ReadPlan};
-use crate::output::{Fail, file_name, write_atomic};
+use crate::output::{Fail, file_name};
 
 /// The formation family.
 pub(crate) static FORMATION: Def<FormationProblem> = Def {
@@ -102,12 +102,10 @@ fn info(inputs: &Inputs) -> Result<u8, Fail> {
 }
 
 /// `mrpp render --formation F --plan P --out F.svg`.
-fn render(inputs: &Inputs, plan_path: &Path, out: &Path) -> Result<u8, Fail> {
+fn render(inputs: &Inputs, plan_path: &Path) -> Result<String, Fail> {
     let read = read_plan(inputs, plan_path)?;
     let (f, _) = formation(inputs)?;
-    write_atomic(out, &render_svg(&f.map, &read.problem, Some(&read.plan)))?;
-    println!("picture written to {}", out.display());
-    Ok(0)
+    Ok(render_svg(&f.map, &read.problem, Some(&read.plan)))
 }
 
 /// Frames a formation plan is sampled at for the viewer.

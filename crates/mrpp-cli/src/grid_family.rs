@@ -14,7 +14,7 @@ use mrpp_grid::io::plan_json::{grid_envelope, read_grid_plan};
 use mrpp_grid::io::render::render_svg;
 
 use crate::family::{Def, Format, Inputs, Loaded, Outcome, ReadPlan};
-use crate::output::{Fail, file_name, write_atomic};
+use crate::output::{Fail, file_name};
 
 /// The grid family.
 pub(crate) static GRID: Def<MapfProblem> = def();
@@ -181,15 +181,10 @@ fn info(inputs: &Inputs) -> Result<u8, Fail> {
 }
 
 /// `mrpp render`: the map, starts, goals and paths as SVG.
-fn render(inputs: &Inputs, plan: &Path, out: &Path) -> Result<u8, Fail> {
+fn render(inputs: &Inputs, plan: &Path) -> Result<String, Fail> {
     let read = read_plan(inputs, plan)?;
     let map = GridMap::load(need(&inputs.map, "--map")?)?;
-    write_atomic(
-        out,
-        &render_svg(&map, read.problem.instance(), Some(&read.plan)),
-    )?;
-    println!("picture written to {}", out.display());
-    Ok(0)
+    Ok(render_svg(&map, read.problem.instance(), Some(&read.plan)))
 }
 
 /// `mrpp view`: the viewer's scene of a grid plan ([`crate::view`]): blocked cells as rows of

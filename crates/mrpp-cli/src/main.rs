@@ -17,6 +17,8 @@ mod gen_cmd;
 mod grid_family;
 mod output;
 mod progress;
+#[cfg(feature = "raster")]
+mod raster;
 mod sweeps;
 #[cfg(test)]
 mod toy_family;
@@ -97,8 +99,12 @@ enum Command {
         inputs: Inputs,
         #[arg(long)]
         plan: PathBuf,
+        /// The picture, by extension: .svg, .png, or .gif (animated, one frame per step).
         #[arg(long)]
         out: PathBuf,
+        /// An animated GIF (the same as an --out ending in .gif, which it requires).
+        #[arg(long)]
+        gif: bool,
     },
 }
 
@@ -192,7 +198,12 @@ fn run(command: Command) -> Result<u8, Fail> {
         Command::Validate { inputs, plan } => verbs::validate(&inputs, &plan),
         Command::Planners { family } => family::list_planners(family.as_deref()),
         Command::Info { inputs } => verbs::info(&inputs),
-        Command::Render { inputs, plan, out } => verbs::render(&inputs, &plan, &out),
+        Command::Render {
+            inputs,
+            plan,
+            out,
+            gif,
+        } => verbs::render(&inputs, &plan, &out, gif),
         Command::View {
             inputs,
             plan,

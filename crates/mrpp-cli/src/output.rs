@@ -36,7 +36,7 @@ pub(crate) fn seconds(flag: &str, value: f64) -> Result<Duration, Fail> {
 
 /// Writes `contents` to `path` through a temporary file in the same directory, so a reader never
 /// sees half a file.
-pub(crate) fn write_atomic(path: &Path, contents: &str) -> Result<(), Fail> {
+pub(crate) fn write_atomic(path: &Path, contents: impl AsRef<[u8]>) -> Result<(), Fail> {
     let dir = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
@@ -49,7 +49,7 @@ pub(crate) fn write_atomic(path: &Path, contents: &str) -> Result<(), Fail> {
         name.to_string_lossy(),
         std::process::id()
     ));
-    std::fs::write(&tmp, contents)
+    std::fs::write(&tmp, contents.as_ref())
         .map_err(|e| Fail(format!("{}: cannot write: {e}", path.display())))?;
     std::fs::rename(&tmp, path).map_err(|e| {
         let _ = std::fs::remove_file(&tmp);

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use crate::family::{Inputs, SolveRequest, family_of_inputs, family_of_planner};
-use crate::output::Fail;
+use crate::output::{Fail, write_atomic};
 
 /// `mrpp solve`: plans, exit 0 solved (a valid plan), 3 not solved, 1 bad input or an invalid
 /// plan (a bug).
@@ -22,7 +22,55 @@ pub(crate) fn info(inputs: &Inputs) -> Result<u8, Fail> {
     family_of_inputs(inputs)?.info(inputs)
 }
 
-/// `mrpp render`: a picture of a plan.
-pub(crate) fn render(inputs: &Inputs, plan: &Path, out: &Path) -> Result<u8, Fail> {
-    family_of_inputs(inputs)?.render(inputs, plan, out)
+/// `mrpp render`: a picture of a plan, by `out`'s extension: `.svg` (the family's picture),
+/// `.png` (that picture rasterised) or `.gif` (the plan animated; `gif` asks for it explicitly).
+/// An unknown extension is refused before anything is read.
+pub(crate) fn render(inputs: &Inputs, plan: &Path, out: &Path, gif: bool) -> Result<u8, Fail> {
+    let ext = out
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    if gif && ext != "gif" {
+        return Err(Fail(format!(
+            "{}: --gif writes an animated GIF, so --out must end in .gif",
+            out.display()
+        )));
+    }
+    if !["svg", "png", "gif"].contains(&ext.as_str()) {
+        return Err(Fail(format!(
+            "{}: unknown picture format `.{ext}` (use .svg, .png or .gif)",
+            out.display()
+        )));
+    }
+    if out == plan {
+        return Err(Fail(format!(
+            "{}: --out would overwrite the plan file",
+            out.display()
+        )));
+    }
+    let family = family_of_inputs(inputs)?;
+    match ext.as_str() {
+        "svg" => write_atomic(out, &family.render(inputs, plan)?)?,
+        #[cfg(feature = "raster")]
+        "png" => {
+            let png = crate::raster::png(&family.render(inputs, plan)?)
+                .map_err(|e| Fail(format!("{}: {e}", out.display())))?;
+            write_atomic(out, &png)?;
+        }
+        #[cfg(feature = "raster")]
+        "gif" => {
+            let scene = family.scene(inputs, plan)?;
+            let gif =
+                crate::raster::gif(&scene).map_err(|e| Fail(format!("{}: {e}", out.display())))?;
+            write_atomic(out, &gif)?;
+        }
+        _ => {
+            return Err(Fail(format!(
+                "{}: .{ext} pictures need mrpp built with the `raster` feature",
+                out.display()
+            )));
+        }
+    }
+    println!("picture written to {}", out.display());
+    Ok(0)
 }

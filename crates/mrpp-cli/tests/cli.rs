@@ -528,3 +528,112 @@ fn view_writes_one_self_contained_page_with_the_plan_and_its_verdict() {
     assert_eq!(std::fs::read_to_string(&plan).unwrap(), before);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn render_writes_png_and_animated_gif_by_extension_and_refuses_others() {
+    let dir = std::env::temp_dir().join(format!("mrpp-render-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let run = |args: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_mrpp"))
+            .args(args)
+            .current_dir(env!("CARGO_MANIFEST_DIR").to_string() + "/../..")
+            .output()
+            .unwrap()
+    };
+    let map = "data/movingai/random-32-32-20.map";
+    let plan = dir.join("plan.json");
+    let p = plan.to_str().unwrap();
+    let o = run(&[
+        "solve",
+        "--map",
+        map,
+        "--scen",
+        "data/movingai/random-32-32-20-random-1.scen",
+        "--agents",
+        "10",
+        "--planner",
+        "lacam",
+        "--out",
+        p,
+    ]);
+    assert!(o.status.success(), "{o:?}");
+    let png = dir.join("plan.png");
+    assert!(
+        run(&[
+            "render",
+            "--map",
+            map,
+            "--plan",
+            p,
+            "--out",
+            png.to_str().unwrap()
+        ])
+        .status
+        .success()
+    );
+    let bytes = std::fs::read(&png).unwrap();
+    assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
+    let (w, h) = (
+        u32::from_be_bytes(bytes[16..20].try_into().unwrap()),
+        u32::from_be_bytes(bytes[20..24].try_into().unwrap()),
+    );
+    assert!(w > 100 && h > 100, "{w}x{h}");
+    let gif = dir.join("plan.gif");
+    assert!(
+        run(&[
+            "render",
+            "--map",
+            map,
+            "--plan",
+            p,
+            "--out",
+            gif.to_str().unwrap(),
+            "--gif"
+        ])
+        .status
+        .success()
+    );
+    let bytes = std::fs::read(&gif).unwrap();
+    assert_eq!(&bytes[..6], b"GIF89a");
+    // One graphic control block per frame: at least the plan's steps + 1 (capped at 300).
+    let frames = bytes
+        .windows(3)
+        .filter(|w| *w == [0x21, 0xf9, 0x04])
+        .count();
+    let steps = serde_json::from_str::<serde_json::Value>(&std::fs::read_to_string(&plan).unwrap())
+        .unwrap()["metrics"]["makespan"]
+        .as_u64()
+        .unwrap() as usize;
+    assert!(
+        frames >= (steps + 1).min(300),
+        "{frames} frames for {steps} steps"
+    );
+    for bad in ["plan.jpg", "plan"] {
+        let out = dir.join(bad);
+        let o = run(&[
+            "render",
+            "--map",
+            map,
+            "--plan",
+            p,
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(1), "{bad}");
+        assert!(String::from_utf8_lossy(&o.stderr).contains("unknown picture format"));
+        assert!(!out.exists());
+    }
+    let o = run(&[
+        "render",
+        "--map",
+        map,
+        "--plan",
+        p,
+        "--out",
+        png.to_str().unwrap(),
+        "--gif",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let _ = std::fs::remove_dir_all(&dir);
+}
