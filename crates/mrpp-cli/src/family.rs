@@ -324,7 +324,7 @@ fn write_outputs<P: Problem>(
     }
     match (&req.save_program, program) {
         (Some(path), Some(p)) => {
-            write_atomic(path, &format!("{p}\n"))?;
+            write_atomic(path, format!("{p}\n"))?;
             println!("program written to {}", path.display());
         }
         (Some(path), None) => println!("no program made the plan: {} not written", path.display()),

@@ -97,7 +97,7 @@ pub(crate) fn run(cmd: Gen) -> Result<u8, Fail> {
                 .map_err(|e| Fail(format!("{}: {e}", map.display())))?;
             write_atomic(
                 &out,
-                &mrpp_grid::scen::scen_text(&grid, &file_name(&map), &inst),
+                mrpp_grid::scen::scen_text(&grid, &file_name(&map), &inst),
             )?;
             println!(
                 "mrpp {} | gen scen | map {} | agents {agents} | seed {seed} | written to {}",

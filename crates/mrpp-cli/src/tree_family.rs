@@ -421,7 +421,7 @@ fn cmd_gen(
             n - 2
         )));
     }
-    write_atomic(out, &tree.to_json())?;
+    write_atomic(out, tree.to_json())?;
     let branches = (0..n as u32).filter(|&v| tree.graph.degree(v) >= 3).count();
     println!(
         "mrpp {} | trees gen | seed {seed} | depth {depth} | branching {branching} | nodes {n} | \
