@@ -39,7 +39,7 @@ pub fn line_panels(
     let err = |e: &dyn std::fmt::Display| e.to_string();
     {
         let width = (420 * panels.len().max(1) as u32).max(640);
-        let root = SVGBackend::with_string(&mut svg, (width, 420)).into_drawing_area();
+        let root = SVGBackend::with_string(&mut svg, (width, 450)).into_drawing_area();
         root.fill(&WHITE).map_err(|e| err(&e))?;
         let root = root
             .titled(title, ("sans-serif", 20))
@@ -57,7 +57,41 @@ pub fn line_panels(
             let base = name.trim_end_matches(" (paper)");
             PALETTE[names.iter().position(|n| *n == base).unwrap_or(0) % PALETTE.len()]
         };
-        for (area, panel) in root
+        // The legend in a band of its own above the panels, so it never covers data: a line per
+        // series of ours, a hollow circle per series of the paper's.
+        let (band, plots) = root.split_vertically(30);
+        let mut entries: Vec<(String, bool)> = Vec::new();
+        for p in panels {
+            for s in &p.series {
+                if !entries.iter().any(|(n, _)| *n == s.name) {
+                    entries.push((s.name.clone(), s.paper));
+                }
+            }
+        }
+        let mut x = 12i32;
+        for (name, paper) in &entries {
+            let c = colour(name);
+            if *paper {
+                band.draw(&Circle::new((x + 10, 15), 4, c.stroke_width(1)))
+                    .map_err(|e| err(&e))?;
+            } else {
+                band.draw(&PathElement::new(
+                    vec![(x, 15), (x + 20, 15)],
+                    c.stroke_width(2),
+                ))
+                .map_err(|e| err(&e))?;
+            }
+            band.draw(&Text::new(name.clone(), (x + 26, 8), ("sans-serif", 12)))
+                .map_err(|e| err(&e))?;
+            x += 40 + 7 * name.chars().count() as i32;
+        }
+        // Integer x values (agents, robots, steps) get integer tick labels.
+        let integer_x = panels.iter().all(|p| {
+            p.series
+                .iter()
+                .all(|s| s.points.iter().all(|(x, _)| x.fract() == 0.0))
+        });
+        for (area, panel) in plots
             .split_evenly((1, panels.len().max(1)))
             .iter()
             .zip(panels)
@@ -81,10 +115,32 @@ pub fn line_panels(
                 .y_label_area_size(60)
                 .build_cartesian_2d((x0 - pad)..(x1 + pad), 0f64..(y1 * 1.15).max(1.0))
                 .map_err(|e| err(&e))?;
+            let span = (x1 - x0).max(0.0);
+            let x_ticks = if integer_x {
+                (span as usize + 1).clamp(2, 10)
+            } else {
+                10
+            };
+            let x_format = |v: &f64| {
+                if integer_x {
+                    format!("{}", v.round() as i64)
+                } else {
+                    format!("{v}")
+                }
+            };
             chart
                 .configure_mesh()
                 .x_desc(x_desc)
                 .y_desc(y_desc)
+                .x_labels(x_ticks)
+                .x_label_formatter(&x_format)
+                .y_label_formatter(&|v: &f64| {
+                    if (v - v.round()).abs() < 1e-9 {
+                        format!("{}", v.round() as i64)
+                    } else {
+                        format!("{v:.2}")
+                    }
+                })
                 .light_line_style(WHITE.mix(0.0))
                 .draw()
                 .map_err(|e| err(&e))?;
@@ -104,30 +160,16 @@ pub fn line_panels(
                                 .iter()
                                 .map(|&p| Circle::new(p, 4, c.stroke_width(1))),
                         )
-                        .map_err(|e| err(&e))?
-                        .label(s.name.clone())
-                        .legend(move |(x, y)| Circle::new((x + 10, y), 4, c.stroke_width(1)));
+                        .map_err(|e| err(&e))?;
                 } else {
                     chart
                         .draw_series(
                             LineSeries::new(s.points.iter().copied(), c.stroke_width(2))
                                 .point_size(3),
                         )
-                        .map_err(|e| err(&e))?
-                        .label(s.name.clone())
-                        .legend(move |(x, y)| {
-                            PathElement::new(vec![(x, y), (x + 20, y)], c.stroke_width(2))
-                        });
+                        .map_err(|e| err(&e))?;
                 }
             }
-            chart
-                .configure_series_labels()
-                .position(SeriesLabelPosition::UpperLeft)
-                .background_style(WHITE.mix(0.85))
-                .border_style(BLACK.mix(0.3))
-                .label_font(("sans-serif", 11))
-                .draw()
-                .map_err(|e| err(&e))?;
         }
         root.present().map_err(|e| err(&e))?;
     }
@@ -140,4 +182,75 @@ pub fn csv_text(w: csv::Writer<Vec<u8>>) -> mrpp_core::Result<String> {
         .into_inner()
         .map_err(|e| mrpp_core::Error::Internal(e.to_string()))?;
     String::from_utf8(bytes).map_err(|e| mrpp_core::Error::Internal(e.to_string()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn figure() -> String {
+        let series = |name: &str, k: f64| Series {
+            name: name.into(),
+            points: (1..=4)
+                .map(|i| (f64::from(i * 50), k * f64::from(i)))
+                .collect(),
+            ..Series::default()
+        };
+        line_panels(
+            "Runtime",
+            "agents",
+            "ms",
+            &[Panel {
+                title: "random-32-32-20".into(),
+                series: vec![series("lacam", 1.5), series("pibt", 0.5)],
+            }],
+        )
+        .unwrap()
+    }
+
+    /// The y coordinates of the SVG's text elements holding exactly `label`.
+    fn text_ys(svg: &str, label: &str) -> Vec<f64> {
+        svg.split("<text")
+            .skip(1)
+            .filter(|t| {
+                t.split('>')
+                    .nth(1)
+                    .and_then(|x| x.split('<').next())
+                    .is_some_and(|x| x.trim() == label)
+            })
+            .filter_map(|t| {
+                let y = t.split(" y=\"").nth(1)?.split('"').next()?;
+                y.parse().ok()
+            })
+            .collect()
+    }
+
+    #[test]
+    fn legends_sit_above_the_panels_and_integer_axes_show_integers() {
+        let svg = figure();
+        // Legend entries in the band below the title, above the panel's caption.
+        let caption = text_ys(&svg, "random-32-32-20")[0];
+        for name in ["lacam", "pibt"] {
+            let ys = text_ys(&svg, name);
+            assert_eq!(ys.len(), 1, "{name}: {ys:?}");
+            assert!(
+                ys[0] < caption,
+                "{name} at {} is not above the panel ({caption})",
+                ys[0]
+            );
+        }
+        // Agent counts as integers, never "50.0".
+        assert!(!text_ys(&svg, "100").is_empty(), "no integer tick 100");
+        assert!(text_ys(&svg, "100.0").is_empty() && text_ys(&svg, "50.0").is_empty());
+        // It rasterises (the figure is what a person will look at).
+        let tree = resvg::usvg::Tree::from_str(&svg, &resvg::usvg::Options::default()).unwrap();
+        let size = tree.size().to_int_size();
+        let mut pixmap = resvg::tiny_skia::Pixmap::new(size.width(), size.height()).unwrap();
+        resvg::render(
+            &tree,
+            resvg::tiny_skia::Transform::default(),
+            &mut pixmap.as_mut(),
+        );
+        assert!(!pixmap.encode_png().unwrap().is_empty());
+    }
 }
