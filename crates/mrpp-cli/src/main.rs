@@ -113,7 +113,7 @@ struct SolveArgs {
     #[command(flatten)]
     inputs: Inputs,
     /// Planner (`mrpp planners` lists them): hstar, ca, hca, whca, coevolution, nsga3, pibt, lacam,
-    /// psw, gp, sequential, ga, exact, hbmo, de, pso, orca.
+    /// cbs, eecbs, psw, gp, sequential, ga, exact, hbmo, de, pso, orca.
     #[arg(long)]
     planner: String,
     /// Planner parameter `key=value`, repeatable (unknown keys are refused with the valid ones).
