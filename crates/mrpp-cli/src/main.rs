@@ -16,6 +16,7 @@ mod formation_family;
 mod gen_cmd;
 mod grid_family;
 mod output;
+mod picture;
 mod progress;
 #[cfg(feature = "raster")]
 mod raster;

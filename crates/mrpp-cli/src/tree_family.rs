@@ -32,7 +32,7 @@ pub(crate) const fn def() -> Def<MapfProblem> {
         load,
         read_plan,
         info: None,
-        render: None,
+        render: Some(render),
         scene: Some(scene),
         lacam: false,
     }
@@ -529,4 +529,9 @@ fn scene(inputs: &Inputs, plan_path: &Path) -> Result<serde_json::Value, Fail> {
         "agents": agents,
         "verdict": verdict,
     }))
+}
+
+/// `mrpp render`: the tree (tidy layout), every robot's route, starts as discs, goals as squares.
+fn render(inputs: &Inputs, plan_path: &Path) -> Result<String, Fail> {
+    Ok(crate::picture::paths_svg(&scene(inputs, plan_path)?))
 }

@@ -635,5 +635,45 @@ fn render_writes_png_and_animated_gif_by_extension_and_refuses_others() {
         "--gif",
     ]);
     assert_eq!(o.status.code(), Some(1));
+    // Trees: the static picture comes from the viewer's scene (tidy layout, routes).
+    let tree_plan = dir.join("tree.json");
+    let tp = tree_plan.to_str().unwrap();
+    let inst = "data/trees/example.json";
+    assert!(
+        run(&[
+            "trees",
+            "solve",
+            "--instance",
+            inst,
+            "--planner",
+            "psw",
+            "--out",
+            tp
+        ])
+        .status
+        .success()
+    );
+    let svg = dir.join("tree.svg");
+    assert!(
+        run(&[
+            "render",
+            "--instance",
+            inst,
+            "--plan",
+            tp,
+            "--out",
+            svg.to_str().unwrap()
+        ])
+        .status
+        .success()
+    );
+    let text = std::fs::read_to_string(&svg).unwrap();
+    let robots =
+        serde_json::from_str::<serde_json::Value>(&std::fs::read_to_string(&tree_plan).unwrap())
+            .unwrap()["agents"]
+            .as_array()
+            .unwrap()
+            .len();
+    assert_eq!(text.matches("<polyline").count(), robots);
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -1,0 +1,239 @@
+//! Pictures of a plan drawn from the viewer's scene ([`crate::view`]), as SVG: one frame at a
+//! time step (what `render --gif` animates) or the whole plan (every agent's route, starts as
+//! discs, goals as squares; the static picture of families without their own, e.g. trees). The
+//! colours are the page's.
+
+use serde_json::Value;
+
+/// Width of pictures in pixels (the height follows the world's aspect ratio).
+const WIDTH: f64 = 800.0;
+
+/// The page's colour of agent `i` as `#rrggbb` (golden-angle hue, three lightness bands).
+fn colour(i: usize) -> String {
+    let h = (i as f64 * 137.508) % 360.0 / 360.0;
+    let (s, l) = (0.7, [0.45, 0.32, 0.58][(i / 7) % 3]);
+    let q = if l < 0.5 {
+        l * (1.0 + s)
+    } else {
+        l + s - l * s
+    };
+    let p = 2.0 * l - q;
+    let ch = |t: f64| {
+        let t = t.rem_euclid(1.0);
+        if t < 1.0 / 6.0 {
+            p + (q - p) * 6.0 * t
+        } else if t < 0.5 {
+            q
+        } else if t < 2.0 / 3.0 {
+            p + (q - p) * (2.0 / 3.0 - t) * 6.0
+        } else {
+            p
+        }
+    };
+    let c = |x: f64| (x * 255.0).round() as u8;
+    format!(
+        "#{:02x}{:02x}{:02x}",
+        c(ch(h + 1.0 / 3.0)),
+        c(ch(h)),
+        c(ch(h - 1.0 / 3.0))
+    )
+}
+
+fn point(v: &Value) -> [f64; 2] {
+    [v[0].as_f64().unwrap_or(0.0), v[1].as_f64().unwrap_or(0.0)]
+}
+
+/// Agent `a`'s point at step `k` (resting on its last one), from `path` or grid `cells`.
+fn at(scene: &Value, a: &Value, k: usize) -> Option<[f64; 2]> {
+    if let Some(cells) = a["cells"].as_array() {
+        let w = scene["cells"]["width"].as_u64()?.max(1);
+        let c = cells.get(k.min(cells.len().checked_sub(1)?))?.as_u64()?;
+        return Some([(c % w) as f64 + 0.5, (c / w) as f64 + 0.5]);
+    }
+    let path = a["path"].as_array()?;
+    Some(point(path.get(k.min(path.len().checked_sub(1)?))?))
+}
+
+/// Steps of the scene's plan.
+pub(crate) fn steps(scene: &Value) -> usize {
+    scene["agents"]
+        .as_array()
+        .map(|a| {
+            a.iter()
+                .map(|x| {
+                    x["cells"]
+                        .as_array()
+                        .or(x["path"].as_array())
+                        .map_or(1, Vec::len)
+                })
+                .max()
+                .unwrap_or(1)
+        })
+        .unwrap_or(1)
+        .saturating_sub(1)
+}
+
+/// One frame of the scene at step `t` as SVG.
+pub(crate) fn frame_svg(scene: &Value, t: usize) -> String {
+    draw(scene, Some(t))
+}
+
+/// The whole plan as SVG: routes, starts and goals.
+pub(crate) fn paths_svg(scene: &Value) -> String {
+    draw(scene, None)
+}
+
+/// A frame at step `t`, or (`None`) the whole plan.
+fn draw(scene: &Value, t: Option<usize>) -> String {
+    use std::fmt::Write as _;
+    let b = &scene["bounds"];
+    let (x0, y0, x1, y1) = (
+        b[0].as_f64().unwrap_or(0.0),
+        b[1].as_f64().unwrap_or(0.0),
+        b[2].as_f64().unwrap_or(1.0),
+        b[3].as_f64().unwrap_or(1.0),
+    );
+    let y_up = scene["y_up"].as_bool().unwrap_or(false);
+    let scale = WIDTH / (x1 - x0).max(1e-9);
+    let (w, h) = (WIDTH, ((y1 - y0) * scale).max(1.0));
+    let xy = |p: [f64; 2]| {
+        let y = if y_up { y1 - p[1] } else { p[1] - y0 };
+        ((p[0] - x0) * scale, y * scale)
+    };
+    let mut s = String::new();
+    let _ = writeln!(
+        s,
+        r##"<svg xmlns="http://www.w3.org/2000/svg" width="{w:.0}" height="{h:.0}" viewBox="0 0 {w:.0} {h:.0}"><rect width="100%" height="100%" fill="#fff"/>"##
+    );
+    if let Some(rows) = scene["cells"]["rows"].as_array() {
+        for (y, row) in rows.iter().enumerate() {
+            for (x, c) in row.as_str().unwrap_or("").chars().enumerate() {
+                if c == '#' {
+                    let (sx, sy) = xy([x as f64, y as f64]);
+                    let _ = write!(
+                        s,
+                        r##"<rect x="{sx:.2}" y="{sy:.2}" width="{:.2}" height="{:.2}" fill="#282828"/>"##,
+                        scale + 0.3,
+                        scale + 0.3
+                    );
+                }
+            }
+        }
+    }
+    for poly in scene["polygons"].as_array().into_iter().flatten() {
+        let pts: Vec<String> = poly
+            .as_array()
+            .into_iter()
+            .flatten()
+            .map(|p| {
+                let (x, y) = xy(point(p));
+                format!("{x:.2},{y:.2}")
+            })
+            .collect();
+        let _ = write!(s, r##"<polygon points="{}" fill="#555"/>"##, pts.join(" "));
+    }
+    for seg in scene["segments"].as_array().into_iter().flatten() {
+        let ((ax, ay), (bx, by)) = (xy(point(&seg[0])), xy(point(&seg[1])));
+        let _ = write!(
+            s,
+            r##"<line x1="{ax:.2}" y1="{ay:.2}" x2="{bx:.2}" y2="{by:.2}" stroke="#999" stroke-width="{:.2}"/>"##,
+            (scale * 0.12).max(1.0)
+        );
+    }
+    let agents = scene["agents"].as_array().cloned().unwrap_or_default();
+    for (i, a) in agents.iter().enumerate() {
+        let r = a["radius"].as_f64().unwrap_or(0.4) * scale;
+        let (gx, gy) = xy(point(&a["goal"]));
+        let g = (r * 0.9).max(1.5);
+        let _ = write!(
+            s,
+            r##"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" fill="none" stroke="{}" stroke-width="{:.2}"/>"##,
+            gx - g,
+            gy - g,
+            2.0 * g,
+            2.0 * g,
+            colour(i),
+            (scale * 0.08).max(1.0)
+        );
+    }
+    if t.is_none() {
+        // Every agent's route, under the discs.
+        for (i, a) in agents.iter().enumerate() {
+            let n = a["cells"]
+                .as_array()
+                .or(a["path"].as_array())
+                .map_or(0, Vec::len);
+            let pts: Vec<String> = (0..n)
+                .filter_map(|k| at(scene, a, k))
+                .map(|p| {
+                    let (x, y) = xy(p);
+                    format!("{x:.2},{y:.2}")
+                })
+                .collect();
+            let _ = write!(
+                s,
+                r##"<polyline points="{}" fill="none" stroke="{}" stroke-width="{:.2}" stroke-opacity="0.7"/>"##,
+                pts.join(" "),
+                colour(i),
+                (scale * 0.12).max(1.0)
+            );
+        }
+    }
+    for (i, a) in agents.iter().enumerate() {
+        let Some(p) = at(scene, a, t.unwrap_or(0)) else {
+            continue;
+        };
+        let r = (a["radius"].as_f64().unwrap_or(0.4) * scale).max(1.5);
+        let (sx, sy) = xy(p);
+        let _ = write!(
+            s,
+            r##"<circle cx="{sx:.2}" cy="{sy:.2}" r="{r:.2}" fill="{}"/>"##,
+            colour(i)
+        );
+        if r >= 7.0 {
+            let _ = write!(
+                s,
+                r##"<text x="{sx:.2}" y="{:.2}" font-size="{:.1}" font-family="sans-serif" text-anchor="middle" fill="#fff">{i}</text>"##,
+                sy + r.min(14.0) * 0.35,
+                r.min(14.0)
+            );
+        }
+    }
+    if let Some(t) = t {
+        let _ = write!(
+            s,
+            r##"<text x="6" y="16" font-size="14" font-family="sans-serif" fill="#b00">t = {t}</text>"##
+        );
+    }
+    s.push_str("</svg>");
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn colours_match_the_page() {
+        // The page's hsl(137.508 i, 70%, l) for agents 0, 1 and 9 (lightness 45%, 45%, 32%), as
+        // Python's colorsys.hls_to_rgb gives them.
+        assert_eq!(colour(0), "#c32222");
+        assert_eq!(colour(1), "#22c351");
+        assert_eq!(colour(9), "#188b60");
+    }
+
+    #[test]
+    fn a_whole_plan_picture_has_a_route_per_agent() {
+        let scene = serde_json::json!({
+            "bounds": [0.0, 0.0, 3.0, 1.0],
+            "agents": [
+                {"radius": 0.4, "start": [0.5, 0.5], "goal": [2.5, 0.5], "path": [[0.5, 0.5], [1.5, 0.5], [2.5, 0.5]]},
+                {"radius": 0.4, "start": [2.5, 0.5], "goal": [0.5, 0.5], "path": [[2.5, 0.5]]}
+            ]
+        });
+        let svg = paths_svg(&scene);
+        assert_eq!(svg.matches("<polyline").count(), 2);
+        assert_eq!(svg.matches("<circle").count(), 2);
+        assert!(frame_svg(&scene, 1).contains("t = 1"));
+    }
+}
