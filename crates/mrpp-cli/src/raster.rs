@@ -14,7 +14,20 @@ pub(crate) const MAX_FRAMES: usize = 300;
 
 fn options() -> resvg::usvg::Options<'static> {
     let mut opt = resvg::usvg::Options::default();
-    opt.fontdb_mut().load_system_fonts();
+    let db = opt.fontdb_mut();
+    db.load_system_fonts();
+    // `sans-serif` means Arial to resvg; use a sans face the system has (DejaVu Sans on Debian).
+    let family = db
+        .faces()
+        .flat_map(|f| f.families.iter().map(|(name, _)| name.clone()))
+        .find(|name| name.contains("Sans") && !name.contains("Mono"))
+        .or_else(|| {
+            db.faces()
+                .find_map(|f| f.families.first().map(|(n, _)| n.clone()))
+        });
+    if let Some(family) = family {
+        db.set_sans_serif_family(family);
+    }
     opt
 }
 

@@ -7,6 +7,10 @@
 //! per agent (diagonally, so both horizontal and vertical overlaps separate) to keep paths that
 //! share cells visible side by side.
 //!
+//! Waits are rings in the agent's colour on the cell where it waits (thicker for longer waits;
+//! its hover title gives the steps), before its last arrival. A band under the map is the legend:
+//! start, goal, wait.
+//!
 //! The SVG is written by hand (no extra crate): the output is small and the elements few.
 
 use std::fmt::Write as _;
@@ -31,14 +35,15 @@ pub fn render_svg(map: &GridMap, inst: &Instance, plan: Option<&Plan>) -> String
     let cs = cell_size(w, h);
     let (pw, ph) = (w as f64 * cs, h as f64 * cs);
     let n = inst.num_agents();
+    let band = LEGEND_PX;
     let mut s = String::new();
     let _ = writeln!(
         s,
         r#"<svg xmlns="http://www.w3.org/2000/svg" width="{}" height="{}" viewBox="0 0 {} {}">"#,
         num(pw),
-        num(ph),
+        num(ph + band),
         num(pw),
-        num(ph)
+        num(ph + band)
     );
     let _ = writeln!(
         s,
@@ -131,6 +136,41 @@ pub fn render_svg(map: &GridMap, inst: &Instance, plan: Option<&Plan>) -> String
         s.push_str("</g>\n");
     }
 
+    // Waits: a ring where an agent stands still, before its last arrival.
+    if let Some(plan) = plan {
+        let _ = writeln!(s, r#"<g fill="none">"#);
+        for (i, p) in plan.paths.iter().enumerate() {
+            let end = p
+                .iter()
+                .rposition(|&v| v != inst.goals[i])
+                .map_or(0, |k| k + 1);
+            let mut k = 1;
+            while k < end {
+                if p[k] != p[k - 1] {
+                    k += 1;
+                    continue;
+                }
+                let from = k - 1;
+                while k < end && p[k] == p[from] {
+                    k += 1;
+                }
+                let steps = k - 1 - from;
+                let (cx, cy) = centre(p[from]);
+                let _ = writeln!(
+                    s,
+                    r#"<circle cx="{}" cy="{}" r="{}" stroke="{}" stroke-width="{}"><title>agent {i} waits {steps} step(s) at t={}</title></circle>"#,
+                    num(cx),
+                    num(cy),
+                    num(cs * 0.42),
+                    agent_colour(i),
+                    num((stroke * (1.0 + (steps as f64).ln())).min(cs * 0.2)),
+                    from
+                );
+            }
+        }
+        s.push_str("</g>\n");
+    }
+
     // Goals: square outlines.
     let side = cs * 0.72;
     let _ = writeln!(s, r#"<g fill="none" stroke-width="{}">"#, num(stroke));
@@ -188,9 +228,35 @@ pub fn render_svg(map: &GridMap, inst: &Instance, plan: Option<&Plan>) -> String
         }
         s.push_str("</g>\n");
     }
+    // Legend band under the map.
+    let (lx, ly, lr) = (8.0, ph + band / 2.0, 5.0);
+    let _ = writeln!(
+        s,
+        r##"<g font-family="sans-serif" font-size="11" fill="#333"><rect x="0" y="{}" width="{}" height="{}" fill="#fff"/><circle cx="{}" cy="{}" r="{lr}" fill="#666"/><text x="{}" y="{}">start (id)</text><rect x="{}" y="{}" width="10" height="10" fill="none" stroke="#666" stroke-width="1.5"/><text x="{}" y="{}">goal</text><circle cx="{}" cy="{}" r="{lr}" fill="none" stroke="#666" stroke-width="1.5"/><text x="{}" y="{}">wait</text><text x="{}" y="{}">{n} agents, one colour each</text></g>"##,
+        num(ph),
+        num(pw),
+        num(band),
+        num(lx + lr),
+        num(ly),
+        num(lx + 14.0),
+        num(ly + 4.0),
+        num(lx + 80.0),
+        num(ly - 5.0),
+        num(lx + 96.0),
+        num(ly + 4.0),
+        num(lx + 140.0 + lr),
+        num(ly),
+        num(lx + 154.0),
+        num(ly + 4.0),
+        num(lx + 200.0),
+        num(ly + 4.0)
+    );
     s.push_str("</svg>\n");
     s
 }
+
+/// Height of the legend band under the map, in pixels.
+const LEGEND_PX: f64 = 22.0;
 
 /// Cell size: [`CELL_PX`], scaled down so neither side exceeds [`MAX_SIDE_PX`].
 fn cell_size(w: u32, h: u32) -> f64 {
@@ -311,8 +377,29 @@ mod tests {
         assert!(svg.trim_end().ends_with("</svg>"));
         assert_balanced(&svg);
         assert_eq!(svg.matches("<polyline ").count(), 4);
-        assert_eq!(svg.matches("<circle ").count(), 4);
-        assert!(svg.contains(r#"width="160" height="112""#), "16 px cells");
+        assert_eq!(svg.matches(" start</title>").count(), 4);
+        // One ring per run of waits before an agent's last arrival, and the legend.
+        let runs: usize = plan
+            .paths
+            .iter()
+            .zip(&inst.goals)
+            .map(|(p, &g)| {
+                let end = p.iter().rposition(|&v| v != g).map_or(0, |k| k + 1);
+                (1..end)
+                    .filter(|&k| p[k] == p[k - 1] && (k < 2 || p[k - 1] != p[k - 2]))
+                    .count()
+            })
+            .sum();
+        assert_eq!(svg.matches(" step(s) at t=").count(), runs);
+        assert!(
+            svg.contains(">start (id)</text>")
+                && svg.contains(">goal</text>")
+                && svg.contains(">wait</text>")
+        );
+        assert!(
+            svg.contains(r#"width="160" height="134""#),
+            "16 px cells and the legend"
+        );
         // Agent 0's polyline: offset -0.2 cells = -3.2 px, waits dropped, 12 points.
         let line = svg.lines().find(|l| l.contains("agent 0:")).unwrap();
         assert!(line.contains(r#"points="20.8,20.8 36.8,20.8 "#), "{line}");
@@ -328,7 +415,8 @@ mod tests {
         let bare = render_svg(&m, &inst, None);
         assert_balanced(&bare);
         assert_eq!(bare.matches("<polyline").count(), 0);
-        assert_eq!(bare.matches("<circle ").count(), 4);
+        assert_eq!(bare.matches(" start</title>").count(), 4);
+        assert_eq!(bare.matches(" step(s) at t=").count(), 0);
     }
 
     #[test]
@@ -342,11 +430,14 @@ mod tests {
         let inst = Instance::new(vec![0], vec![1]).unwrap();
         let svg = render_svg(&m, &inst, Some(&Plan::new(vec![vec![0, 1]])));
         assert!(
-            svg.contains(r#"width="2000" height="1200""#),
+            svg.contains(r#"width="2000" height="1222""#),
             "{}",
             &svg[..200]
         );
-        assert!(!svg.contains("<text"), "no labels on 4 px cells");
+        assert!(
+            !svg.contains(r#"font-weight="bold""#),
+            "no labels on 4 px cells"
+        );
         assert_balanced(&svg);
     }
 
