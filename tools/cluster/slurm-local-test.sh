@@ -152,25 +152,4 @@ echo "array job $(cut -d';' -f1 "$TMP/jobid") done in $((SECONDS - start)) s: $(
 "$MRPP" bench merge --out "$MERGED" "$PARTS" >/dev/null
 "$MRPP" bench run --config "$CONFIG" --out "$WHOLE" >"$TMP/log/whole.out" 2>&1
 
-# Drop the runtime_ms column (found by its header name): python3's csv module
-# if there, else awk (fine while no field holds a quoted comma).
-strip() {
-    if command -v python3 >/dev/null; then
-        python3 -c 'import csv, sys
-rows = list(csv.reader(open(sys.argv[1], newline="")))
-c = rows[0].index("runtime_ms")
-w = csv.writer(sys.stdout, lineterminator="\n")
-for r in rows: w.writerow(r[:c] + r[c + 1:])' "$1"
-    else
-        awk -F, -v OFS=, 'NR == 1 { for (i = 1; i <= NF; i++) if ($i == "runtime_ms") c = i
-                if (!c) { print "no runtime_ms column in " FILENAME > "/dev/stderr"; exit 2 } }
-            { out = ""; for (i = 1; i <= NF; i++) if (i != c) out = out (out == "" ? "" : OFS) $i; print out }' "$1"
-    fi
-}
-strip "$MERGED/records.csv" >"$TMP/merged.csv"
-strip "$WHOLE/records.csv" >"$TMP/whole.csv"
-if ! diff -u "$TMP/whole.csv" "$TMP/merged.csv"; then
-    echo "FAIL: merged shards differ from the unsharded run (diff: whole -> merged)"
-    exit 1
-fi
-echo "OK: slurm array of 3 shards merged equals the unsharded run"
+bash "$REPO/tools/cluster/same-records.sh" "$WHOLE/records.csv" "$MERGED/records.csv" "slurm array of 3 shards"

@@ -202,30 +202,7 @@ impl FormationProblem {
     /// or the first rule they break.
     pub fn evaluate(&self, paths: &[Vec<u32>]) -> Result<Evaluation, FormationViolation> {
         let edges = self.path_edges(paths)?;
-        // Directed use of each edge: (robots u→v, robots v→u, first robot of each).
-        let mut usage: FxHashMap<u32, (usize, usize, usize, usize)> = FxHashMap::default();
-        for (i, es) in edges.iter().enumerate() {
-            for &(e, forward) in es {
-                let u = usage.entry(e).or_insert((0, 0, usize::MAX, usize::MAX));
-                if forward {
-                    u.0 += 1;
-                    u.2 = u.2.min(i);
-                } else {
-                    u.1 += 1;
-                    u.3 = u.3.min(i);
-                }
-                if u.0 > 0 && u.1 > 0 {
-                    let edge = &self.roadmap.edges[e as usize];
-                    let (a, b) = (u.2.min(u.3), u.2.max(u.3));
-                    return Err(FormationViolation::OppositeDirections {
-                        a,
-                        b,
-                        from: edge.u,
-                        to: edge.v,
-                    });
-                }
-            }
-        }
+        let usage = self.usage(&edges)?;
         let times = self.event_times(paths, &edges, &usage)?;
         let per_robot: Vec<f64> = paths
             .iter()
@@ -251,21 +228,8 @@ impl FormationProblem {
     /// # Errors
     /// The first rule the paths break.
     pub fn schedule(&self, paths: &[Vec<u32>]) -> Result<Vec<Vec<(f64, f64)>>, FormationViolation> {
-        self.evaluate(paths)?;
         let edges = self.path_edges(paths)?;
-        let mut usage: FxHashMap<u32, (usize, usize, usize, usize)> = FxHashMap::default();
-        for (i, es) in edges.iter().enumerate() {
-            for &(e, forward) in es {
-                let u = usage.entry(e).or_insert((0, 0, usize::MAX, usize::MAX));
-                if forward {
-                    u.0 += 1;
-                    u.2 = u.2.min(i);
-                } else {
-                    u.1 += 1;
-                    u.3 = u.3.min(i);
-                }
-            }
-        }
+        let usage = self.usage(&edges)?;
         let times = self.event_times(paths, &edges, &usage)?;
         Ok(paths
             .iter()
@@ -281,6 +245,40 @@ impl FormationProblem {
                     .collect()
             })
             .collect())
+    }
+
+    /// Directed use of each edge by `edges` (each path's `(edge id, forward)`): robots u→v,
+    /// robots v→u, and the first robot of each; or the first two robots that cross an edge in
+    /// opposite directions.
+    #[allow(clippy::type_complexity)]
+    fn usage(
+        &self,
+        edges: &[Vec<(u32, bool)>],
+    ) -> Result<FxHashMap<u32, (usize, usize, usize, usize)>, FormationViolation> {
+        let mut usage: FxHashMap<u32, (usize, usize, usize, usize)> = FxHashMap::default();
+        for (i, es) in edges.iter().enumerate() {
+            for &(e, forward) in es {
+                let u = usage.entry(e).or_insert((0, 0, usize::MAX, usize::MAX));
+                if forward {
+                    u.0 += 1;
+                    u.2 = u.2.min(i);
+                } else {
+                    u.1 += 1;
+                    u.3 = u.3.min(i);
+                }
+                if u.0 > 0 && u.1 > 0 {
+                    let edge = &self.roadmap.edges[e as usize];
+                    let (a, b) = (u.2.min(u.3), u.2.max(u.3));
+                    return Err(FormationViolation::OppositeDirections {
+                        a,
+                        b,
+                        from: edge.u,
+                        to: edge.v,
+                    });
+                }
+            }
+        }
+        Ok(usage)
     }
 
     /// Each path's edges `(edge id, forward)`, after checking ends, edges and revisits.

@@ -47,9 +47,11 @@ use rustc_hash::{FxHashMap, FxHasher};
 
 use crate::lns::Lns;
 use crate::pibt::{NIL, Step, Tricks};
+use mrpp_core::mapf::plan::path_cost;
 use mrpp_core::mapf::search::distance::{GoalDistances, UNREACHABLE};
 use mrpp_core::{
-    Ctx, Graph, MapfProblem, Param, Plan, Planner, PlannerEntry, Progress, Unsolved, VertexId,
+    Ctx, GoalSemantics, Graph, MapfProblem, Param, Plan, Planner, PlannerEntry, Progress, Unsolved,
+    VertexId,
 };
 
 /// Registry name.
@@ -381,7 +383,7 @@ pub(crate) fn search(
             {
                 if let Some(l) = lns.as_mut() {
                     let paths = s.paths_to(goal);
-                    if sum_of_costs(&paths) < l.sum_of_costs() {
+                    if sum_of_costs(&paths, goals) < l.sum_of_costs() {
                         l.reset(paths);
                     }
                 }
@@ -424,7 +426,7 @@ pub(crate) fn search(
     let mut paths = s.paths_to(goal);
     if let Some(l) = &lns
         && !proven_optimal
-        && l.sum_of_costs() < sum_of_costs(&paths)
+        && l.sum_of_costs() < sum_of_costs(&paths, goals)
     {
         paths = l.paths().to_vec();
     }
@@ -453,17 +455,12 @@ pub(crate) fn search(
 const LNS_EVERY: u64 = 64;
 const LNS_STEPS: usize = 16;
 
-/// Sum of costs of `paths` with trailing waits on the goal not counted.
-fn sum_of_costs(paths: &[Vec<VertexId>]) -> u64 {
+/// Sum of costs of `paths` (each ends on its goal), by the validator's definition.
+fn sum_of_costs(paths: &[Vec<VertexId>], goals: &[VertexId]) -> u64 {
     paths
         .iter()
-        .map(|p| {
-            let mut end = p.len() - 1;
-            while end > 0 && p[end] == p[end - 1] {
-                end -= 1;
-            }
-            end as u64
-        })
+        .zip(goals)
+        .map(|(p, &g)| path_cost(p, g, GoalSemantics::Stay).unwrap_or(p.len() - 1) as u64)
         .sum()
 }
 

@@ -113,18 +113,25 @@ struct LazyBfs {
 }
 
 impl LazyBfs {
-    /// Runs the (started) search to the end of the goal's component.
-    fn finish(&mut self, g: &Graph) {
-        while let Some(u) = self.queue.pop_front() {
-            let d = self.dist.get(u as usize) + 1;
-            for &w in g.neighbors(u) {
-                if self.dist.get(w as usize) == UNREACHABLE {
-                    self.dist.set(w as usize, d);
-                    self.queue.push_back(w);
-                }
+    /// Expands the next vertex of the queue; false when the search is done.
+    fn step(&mut self, g: &Graph) -> bool {
+        let Some(u) = self.queue.pop_front() else {
+            self.queue = VecDeque::new();
+            return false;
+        };
+        let d = self.dist.get(u as usize) + 1;
+        for &w in g.neighbors(u) {
+            if self.dist.get(w as usize) == UNREACHABLE {
+                self.dist.set(w as usize, d);
+                self.queue.push_back(w);
             }
         }
-        self.queue = VecDeque::new();
+        true
+    }
+
+    /// Runs the (started) search to the end of the goal's component.
+    fn finish(&mut self, g: &Graph) {
+        while self.step(g) {}
     }
 
     /// Distance from `v` to the table's goal, growing the search until `v` is reached or the
@@ -139,19 +146,11 @@ impl LazyBfs {
         if known != UNREACHABLE {
             return known;
         }
-        while let Some(u) = self.queue.pop_front() {
-            let d = self.dist.get(u as usize) + 1;
-            for &w in g.neighbors(u) {
-                if self.dist.get(w as usize) == UNREACHABLE {
-                    self.dist.set(w as usize, d);
-                    self.queue.push_back(w);
-                }
-            }
+        while self.step(g) {
             if self.dist.get(v as usize) != UNREACHABLE {
                 return self.dist.get(v as usize);
             }
         }
-        self.queue = VecDeque::new();
         UNREACHABLE
     }
 }
