@@ -1,8 +1,8 @@
 //! Large-neighbourhood search that lowers a valid plan's sum of costs (J. Li, Z. Chen, D. Harabor,
 //! P. J. Stuckey, S. Koenig, "Anytime multi-agent path finding via large neighborhood search",
 //! IJCAI 2021): each step takes up to `k` agents' paths out, re-plans those agents one at a time
-//! in a random order with space-time A* against everyone else's paths, and keeps the new paths
-//! when their summed cost is not larger (else restores the old ones). LaCAM*'s anytime phase runs
+//! in a random order with safe-interval path planning ([`sipp`]) against everyone else's paths,
+//! and keeps the new paths when their summed cost is not larger (else restores the old ones). LaCAM*'s anytime phase runs
 //! it between its own search rounds (the role of the refiners of lacam3, Okumura, AAMAS 2024).
 //!
 //! Neighbourhoods alternate between *random* (uniform agents) and *agent-based* (the most delayed
@@ -17,7 +17,8 @@ use rand_chacha::ChaCha8Rng;
 use rustc_hash::FxHashSet;
 
 use mrpp_core::mapf::search::distance::GoalDistances;
-use mrpp_core::mapf::search::spacetime::{Query, Reservations, Search, space_time_astar};
+use mrpp_core::mapf::search::sipp::sipp;
+use mrpp_core::mapf::search::spacetime::{Query, Reservations, Search};
 use mrpp_core::{Deadline, Graph, VertexId};
 
 /// Steps a re-planned path may end after the current makespan (a second bound, besides the
@@ -194,7 +195,7 @@ impl<'a> Lns<'a> {
                 window: None,
                 deadline,
             };
-            match space_time_astar(&q, &self.res) {
+            match sipp(&q, &self.res) {
                 Search::Found(p) => {
                     let p = trimmed(p);
                     spent += p.len() as u64 - 1;

@@ -3,6 +3,9 @@
 //! - [`distance`]: BFS distance tables (the exact heuristic of HCA*/WHCA*, PIBT, ...).
 //! - [`spacetime`]: a reservation table and space-time A* over `(vertex, time)`, with an optional
 //!   window (CA*, HCA*, WHCA*, and H*'s repair step).
+//! - [`sipp`]: safe-interval path planning over the same table (the re-planning step of LaCAM*'s
+//!   large-neighbourhood refinement).
 
 pub mod distance;
+pub mod sipp;
 pub mod spacetime;

@@ -17,9 +17,10 @@ const NEVER: u32 = u32::MAX;
 
 /// Vertex and edge reservations over time, plus vertices held forever by parked agents.
 ///
-/// Stored per vertex as a short list of `(t, from)`: an agent is on the vertex at `t`, having come
-/// from `from` at `t - 1` (itself for a wait or a start). A vertex is reserved at few time steps,
-/// so a scan of its list is cheaper than hashing `(vertex, t)` pairs.
+/// Stored per vertex as a short list of `(t, from)` sorted by `t`: an agent is on the vertex at
+/// `t`, having come from `from` at `t - 1` (itself for a wait or a start). A vertex is reserved at
+/// few time steps, so a binary search of its list is cheaper than hashing `(vertex, t)` pairs, and
+/// the sorted list gives the vertex's safe intervals to [`crate::mapf::search::sipp`].
 #[derive(Debug, Clone)]
 pub struct Reservations {
     at: Vec<Vec<(u32, VertexId)>>,
@@ -45,7 +46,9 @@ impl Reservations {
         for (k, &v) in path.iter().enumerate() {
             let t = t0 + k as u32;
             let from = if k > 0 { path[k - 1] } else { v };
-            self.at[v as usize].push((t, from));
+            let list = &mut self.at[v as usize];
+            let pos = list.partition_point(|&e| e <= (t, from));
+            list.insert(pos, (t, from));
             let last = &mut self.last[v as usize];
             *last = if *last == NEVER { t } else { (*last).max(t) };
             self.horizon = self.horizon.max(t);
@@ -63,10 +66,10 @@ impl Reservations {
             let t = t0 + k as u32;
             let from = if k > 0 { path[k - 1] } else { v };
             let list = &mut self.at[v as usize];
-            if let Some(pos) = list.iter().position(|&e| e == (t, from)) {
-                list.swap_remove(pos);
+            if let Ok(pos) = list.binary_search(&(t, from)) {
+                list.remove(pos);
             }
-            self.last[v as usize] = list.iter().map(|&(tt, _)| tt).max().unwrap_or(NEVER);
+            self.last[v as usize] = list.last().map_or(NEVER, |&(tt, _)| tt);
         }
         if park && let Some(&v) = path.last() {
             let t = t0 + path.len() as u32 - 1;
@@ -79,18 +82,70 @@ impl Reservations {
     /// Whether `v` is free at time `t`.
     #[inline]
     pub fn vertex_free(&self, v: VertexId, t: u32) -> bool {
-        self.parked[v as usize] > t && !self.at[v as usize].iter().any(|&(tt, _)| tt == t)
+        self.parked[v as usize] > t && !self.reserved_at(v, t)
+    }
+
+    /// Whether some path is on `v` at `t` (parked agents aside).
+    #[inline]
+    fn reserved_at(&self, v: VertexId, t: u32) -> bool {
+        let list = &self.at[v as usize];
+        let i = list.partition_point(|&(tt, _)| tt < t);
+        list.get(i).is_some_and(|&(tt, _)| tt == t)
+    }
+
+    /// Whether some path moves from `from` onto `v` at step `t` (a wait when `from == v`).
+    #[inline]
+    pub fn arrives(&self, v: VertexId, t: u32, from: VertexId) -> bool {
+        self.at[v as usize].binary_search(&(t, from)).is_ok()
+    }
+
+    /// The first time `>= t` at which `v` is reserved (by a path or a parked agent), or
+    /// `u32::MAX` when it is free from `t` on: a safe interval that contains `t` ends just before.
+    #[inline]
+    pub fn next_reserved(&self, v: VertexId, t: u32) -> u32 {
+        let list = &self.at[v as usize];
+        let i = list.partition_point(|&(tt, _)| tt < t);
+        let by_path = list.get(i).map_or(NEVER, |&(tt, _)| tt);
+        by_path.min(self.parked[v as usize].max(t))
+    }
+
+    /// The first time `>= t` at which `v` is free, or `u32::MAX` when a parked agent holds it
+    /// from then on.
+    #[inline]
+    pub fn first_free(&self, v: VertexId, t: u32) -> u32 {
+        let mut u = t;
+        let list = &self.at[v as usize];
+        let mut i = list.partition_point(|&(tt, _)| tt < u);
+        while let Some(&(tt, _)) = list.get(i) {
+            if tt > u {
+                break;
+            }
+            if tt == u {
+                u += 1;
+            }
+            i += 1;
+        }
+        if u >= self.parked[v as usize] {
+            NEVER
+        } else {
+            u
+        }
+    }
+
+    /// The start of the safe interval of `v` that contains the free time `t`: one after the
+    /// latest reserved time before `t`, or 0.
+    #[inline]
+    pub fn interval_start(&self, v: VertexId, t: u32) -> u32 {
+        let list = &self.at[v as usize];
+        let i = list.partition_point(|&(tt, _)| tt < t);
+        if i == 0 { 0 } else { list[i - 1].0 + 1 }
     }
 
     /// Whether an agent may move (or wait, when `u == v`) from `u` at `t - 1` to `v` at `t`:
     /// `v` is free at `t` and no agent moves `v -> u` at the same step (a swap).
     #[inline]
     pub fn move_free(&self, u: VertexId, v: VertexId, t: u32) -> bool {
-        self.vertex_free(v, t)
-            && (u == v
-                || !self.at[u as usize]
-                    .iter()
-                    .any(|&(tt, from)| tt == t && from == v))
+        self.vertex_free(v, t) && (u == v || !self.arrives(u, t, v))
     }
 
     /// Whether `v` is free at every step `>= t`.
