@@ -3,41 +3,11 @@
 //! discs, goals as squares; the static picture of families without their own, e.g. trees). The
 //! colours are the page's.
 
+use mrpp_core::palette::agent_colour as colour;
 use serde_json::Value;
 
 /// Width of pictures in pixels (the height follows the world's aspect ratio).
 const WIDTH: f64 = 800.0;
-
-/// The page's colour of agent `i` as `#rrggbb` (golden-angle hue, three lightness bands).
-fn colour(i: usize) -> String {
-    let h = (i as f64 * 137.508) % 360.0 / 360.0;
-    let (s, l) = (0.7, [0.45, 0.32, 0.58][(i / 7) % 3]);
-    let q = if l < 0.5 {
-        l * (1.0 + s)
-    } else {
-        l + s - l * s
-    };
-    let p = 2.0 * l - q;
-    let ch = |t: f64| {
-        let t = t.rem_euclid(1.0);
-        if t < 1.0 / 6.0 {
-            p + (q - p) * 6.0 * t
-        } else if t < 0.5 {
-            q
-        } else if t < 2.0 / 3.0 {
-            p + (q - p) * (2.0 / 3.0 - t) * 6.0
-        } else {
-            p
-        }
-    };
-    let c = |x: f64| (x * 255.0).round() as u8;
-    format!(
-        "#{:02x}{:02x}{:02x}",
-        c(ch(h + 1.0 / 3.0)),
-        c(ch(h)),
-        c(ch(h - 1.0 / 3.0))
-    )
-}
 
 fn point(v: &Value) -> [f64; 2] {
     [v[0].as_f64().unwrap_or(0.0), v[1].as_f64().unwrap_or(0.0)]
@@ -212,15 +182,6 @@ fn draw(scene: &Value, t: Option<usize>) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn colours_match_the_page() {
-        // The page's hsl(137.508 i, 70%, l) for agents 0, 1 and 9 (lightness 45%, 45%, 32%), as
-        // Python's colorsys.hls_to_rgb gives them.
-        assert_eq!(colour(0), "#c32222");
-        assert_eq!(colour(1), "#22c351");
-        assert_eq!(colour(9), "#188b60");
-    }
 
     #[test]
     fn a_whole_plan_picture_has_a_route_per_agent() {

@@ -1,16 +1,15 @@
 //! A picture of a continuous world and plan (like the HBMO paper's Figs. 4 and 12): the obstacles,
 //! each robot's start (hollow disc) and goal (cross), its trajectory as a polyline with a dot per
-//! step, and the disc at its final position with the robot's number.
+//! step, and the disc at its final position with the robot's number. A robot that stands still
+//! for some steps before its last move gets a ring there, wider for longer waits, with the steps
+//! in the tooltip. A legend band under the workspace names each mark.
 
 use std::fmt::Write as _;
 
+use mrpp_core::palette::agent_colour;
+
 use crate::problem::Trajectories;
 use crate::world::World;
-
-const COLOURS: [&str; 10] = [
-    "#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b", "#e377c2", "#17becf",
-    "#bcbd22", "#7f7f7f",
-];
 
 /// SVG text of the world and (when given) the trajectories.
 pub fn render_svg(world: &World, plan: Option<&Trajectories>) -> String {
@@ -30,7 +29,9 @@ pub fn render_svg(world: &World, plan: Option<&Trajectories>) -> String {
     let mut s = String::new();
     let _ = writeln!(
         s,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w:.0}" height="{h:.0}" viewBox="0 0 {w:.0} {h:.0}">"#
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w:.0}" height="{:.0}" viewBox="0 0 {w:.0} {:.0}">"#,
+        h + LEGEND_PX,
+        h + LEGEND_PX
     );
     let _ = writeln!(
         s,
@@ -40,7 +41,7 @@ pub fn render_svg(world: &World, plan: Option<&Trajectories>) -> String {
         let _ = writeln!(s, r##"<polygon points="{}" fill="#444"/>"##, pts(o));
     }
     for (i, r) in world.robots.iter().enumerate() {
-        let c = COLOURS[i % COLOURS.len()];
+        let c = agent_colour(i);
         let rad = r.radius * scale;
         let (sx, sy) = xy(r.start);
         let (gx, gy) = xy(r.goal);
@@ -73,6 +74,14 @@ pub fn render_svg(world: &World, plan: Option<&Trajectories>) -> String {
                     r##"<circle cx="{x:.2}" cy="{y:.2}" r="1.5" fill="{c}"/>"##
                 );
             }
+            for (from, steps) in waits(path) {
+                let (x, y) = xy(path[from]);
+                let _ = writeln!(
+                    s,
+                    r##"<circle cx="{x:.2}" cy="{y:.2}" r="{:.2}" fill="none" stroke="{c}" stroke-width="1.5"><title>robot {i} waits {steps} step(s) from step {from}</title></circle>"##,
+                    rad * 0.5 + (steps as f64).min(8.0)
+                );
+            }
             if let Some(&end) = path.last() {
                 let (x, y) = xy(end);
                 let _ = writeln!(
@@ -95,6 +104,70 @@ pub fn render_svg(world: &World, plan: Option<&Trajectories>) -> String {
             );
         }
     }
+    // Legend band under the workspace.
+    let y = h + LEGEND_PX / 2.0;
+    let _ = writeln!(
+        s,
+        r##"<g font-family="sans-serif" font-size="11" fill="#333" stroke-width="1.5"><rect x="0" y="{h:.2}" width="{w:.2}" height="{LEGEND_PX}" fill="#fff" stroke="none"/><circle cx="13" cy="{y:.2}" r="5" fill="none" stroke="#666"/><text x="22" y="{:.2}">start</text><path d="M55,{:.2} L63,{:.2} M55,{:.2} L63,{:.2}" stroke="#666"/><text x="68" y="{:.2}">goal</text><line x1="100" y1="{y:.2}" x2="122" y2="{y:.2}" stroke="#666"/><circle cx="111" cy="{y:.2}" r="1.5" fill="#666"/><text x="128" y="{:.2}">one dot per step</text><circle cx="238" cy="{y:.2}" r="5" fill="#666" fill-opacity="0.6"/><text x="247" y="{:.2}">end (id)</text><circle cx="310" cy="{y:.2}" r="5" fill="none" stroke="#666"/><text x="319" y="{:.2}">wait</text></g>"##,
+        y + 4.0,
+        y - 4.0,
+        y + 4.0,
+        y + 4.0,
+        y - 4.0,
+        y + 4.0,
+        y + 4.0,
+        y + 4.0,
+        y + 4.0,
+    );
     s.push_str("</svg>\n");
     s
+}
+
+/// Height of the legend band under the workspace, in pixels.
+const LEGEND_PX: f64 = 22.0;
+
+/// The runs of steps at which a robot stands still before its last move: `(first step, steps)`.
+fn waits(path: &[[f64; 2]]) -> Vec<(usize, usize)> {
+    let still = |k: usize| {
+        let (a, b) = (path[k], path[k + 1]);
+        (a[0] - b[0]).abs() <= 1e-9 && (a[1] - b[1]).abs() <= 1e-9
+    };
+    let Some(last_move) = (0..path.len().saturating_sub(1)).rev().find(|&k| !still(k)) else {
+        return Vec::new();
+    };
+    let mut runs = Vec::new();
+    let mut k = 0;
+    while k < last_move {
+        if still(k) {
+            let from = k;
+            while k < last_move && still(k) {
+                k += 1;
+            }
+            runs.push((from, k - from));
+        } else {
+            k += 1;
+        }
+    }
+    runs
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn waits_are_runs_of_still_steps_before_the_last_move() {
+        let p = [
+            [0.0, 0.0],
+            [0.0, 0.0],
+            [0.0, 0.0],
+            [1.0, 0.0],
+            [1.0, 0.0],
+            [2.0, 0.0],
+            [2.0, 0.0],
+        ];
+        assert_eq!(waits(&p), vec![(0, 2), (3, 1)]);
+        assert!(waits(&[[0.0, 0.0], [0.0, 0.0]]).is_empty());
+        assert!(waits(&[]).is_empty());
+    }
 }

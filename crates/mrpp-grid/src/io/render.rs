@@ -19,6 +19,7 @@ use crate::map::GridMap;
 use mrpp_core::mapf::graph::VertexId;
 use mrpp_core::mapf::instance::Instance;
 use mrpp_core::mapf::plan::Plan;
+use mrpp_core::palette::agent_colour;
 
 /// Cell size in pixels for maps small enough to afford it.
 pub const CELL_PX: f64 = 16.0;
@@ -270,32 +271,6 @@ fn path_offset(i: usize) -> f64 {
     ((i % 5) as f64 - 2.0) * 0.1
 }
 
-/// Agent `i`'s colour: hue advanced by the golden angle per agent, fixed saturation and lightness
-/// (dark enough to read on the light floor, light enough to tell from walls).
-pub fn agent_colour(i: usize) -> String {
-    let hue = (i as f64 * 137.507_764) % 360.0;
-    let (r, g, b) = hsl_to_rgb(hue, 0.72, 0.46);
-    format!("#{r:02x}{g:02x}{b:02x}")
-}
-
-/// HSL to 8-bit RGB, written out because not every SVG consumer understands `hsl()` colours.
-fn hsl_to_rgb(h: f64, s: f64, l: f64) -> (u8, u8, u8) {
-    let c = (1.0 - (2.0 * l - 1.0).abs()) * s;
-    let hp = h / 60.0;
-    let x = c * (1.0 - (hp % 2.0 - 1.0).abs());
-    let (r, g, b) = match hp as u32 {
-        0 => (c, x, 0.0),
-        1 => (x, c, 0.0),
-        2 => (0.0, c, x),
-        3 => (0.0, x, c),
-        4 => (x, 0.0, c),
-        _ => (c, 0.0, x),
-    };
-    let m = l - c / 2.0;
-    let to = |v: f64| ((v + m) * 255.0).round().clamp(0.0, 255.0) as u8;
-    (to(r), to(g), to(b))
-}
-
 /// A coordinate with at most two decimals and no trailing zeros (`12`, `12.5`, `0.33`).
 fn num(v: f64) -> String {
     let s = format!("{v:.2}");
@@ -442,14 +417,7 @@ mod tests {
     }
 
     #[test]
-    fn colours_are_distinct_and_hex() {
-        let cs: Vec<String> = (0..20).map(agent_colour).collect();
-        for (i, c) in cs.iter().enumerate() {
-            assert!(c.len() == 7 && c.starts_with('#'), "{c}");
-            assert!(!cs[..i].contains(c), "colour {i} repeats");
-        }
-        assert_eq!(hsl_to_rgb(0.0, 1.0, 0.5), (255, 0, 0));
-        assert_eq!(hsl_to_rgb(240.0, 1.0, 0.5), (0, 0, 255));
+    fn numbers_are_short() {
         assert_eq!(num(3.0), "3");
         assert_eq!(num(-0.001), "0");
         assert_eq!(num(20.8), "20.8");
