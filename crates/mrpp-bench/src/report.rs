@@ -19,14 +19,39 @@ pub struct Panel {
     pub series: Vec<Series>,
 }
 
-const PALETTE: [RGBColor; 6] = [
+/// The tab10 colours: one per series name, up to ten names per figure.
+const PALETTE: [RGBColor; 10] = [
     RGBColor(31, 119, 180),
     RGBColor(255, 127, 14),
     RGBColor(44, 160, 44),
     RGBColor(214, 39, 40),
     RGBColor(148, 103, 189),
     RGBColor(140, 86, 75),
+    RGBColor(227, 119, 194),
+    RGBColor(127, 127, 127),
+    RGBColor(188, 189, 34),
+    RGBColor(23, 190, 207),
 ];
+
+/// Height of one legend row, in pixels.
+const LEGEND_ROW_PX: u32 = 22;
+
+/// A tick label for `v` on an axis spanning `span`: as many decimals as the span needs (two
+/// significant digits of the span), trailing zeros cut.
+fn tick_label(v: f64, span: f64) -> String {
+    let decimals = if span > 0.0 {
+        (1.0 - span.log10().floor()).clamp(0.0, 6.0) as usize
+    } else {
+        2
+    };
+    let t = format!("{v:.decimals$}");
+    let t = if t.contains('.') {
+        t.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        t
+    };
+    if t == "-0" { "0".into() } else { t }
+}
 
 /// Panels side by side, x = `x_desc`, y = `y_desc`. Series with the same name share a colour.
 pub fn line_panels(
@@ -58,8 +83,8 @@ pub fn line_panels(
             PALETTE[names.iter().position(|n| *n == base).unwrap_or(0) % PALETTE.len()]
         };
         // The legend in a band of its own above the panels, so it never covers data: a line per
-        // series of ours, a hollow circle per series of the paper's.
-        let (band, plots) = root.split_vertically(30);
+        // series of ours, a hollow circle per series of the paper's, in rows as wide as the
+        // figure.
         let mut entries: Vec<(String, bool)> = Vec::new();
         for p in panels {
             for s in &p.series {
@@ -68,22 +93,39 @@ pub fn line_panels(
                 }
             }
         }
-        let mut x = 12i32;
-        for (name, paper) in &entries {
+        let entry_width = |name: &str| 40 + 7 * name.chars().count() as i32;
+        let mut placed: Vec<(i32, i32)> = Vec::new();
+        let (mut x, mut row) = (12i32, 0i32);
+        for (name, _) in &entries {
+            if x > 12 && x + entry_width(name) > width as i32 - 12 {
+                (x, row) = (12, row + 1);
+            }
+            placed.push((x, row * LEGEND_ROW_PX as i32));
+            x += entry_width(name);
+        }
+        let rows = placed
+            .last()
+            .map_or(1, |&(_, y)| y as u32 / LEGEND_ROW_PX + 1);
+        let (band, plots) = root.split_vertically(8 + LEGEND_ROW_PX * rows);
+        for ((name, paper), &(x, y)) in entries.iter().zip(&placed) {
             let c = colour(name);
+            let mid = y + 15;
             if *paper {
-                band.draw(&Circle::new((x + 10, 15), 4, c.stroke_width(1)))
+                band.draw(&Circle::new((x + 10, mid), 4, c.stroke_width(1)))
                     .map_err(|e| err(&e))?;
             } else {
                 band.draw(&PathElement::new(
-                    vec![(x, 15), (x + 20, 15)],
+                    vec![(x, mid), (x + 20, mid)],
                     c.stroke_width(2),
                 ))
                 .map_err(|e| err(&e))?;
             }
-            band.draw(&Text::new(name.clone(), (x + 26, 8), ("sans-serif", 12)))
-                .map_err(|e| err(&e))?;
-            x += 40 + 7 * name.chars().count() as i32;
+            band.draw(&Text::new(
+                name.clone(),
+                (x + 26, y + 8),
+                ("sans-serif", 12),
+            ))
+            .map_err(|e| err(&e))?;
         }
         // Integer x values (agents, robots, steps) get integer tick labels.
         let integer_x = panels.iter().all(|p| {
@@ -107,13 +149,24 @@ pub fn line_panels(
             if x0 > x1 {
                 (x0, x1) = (0.0, 1.0);
             }
-            let pad = ((x1 - x0) * 0.05).max(0.5);
+            // A margin of 5% of the span (half a step on integer axes); below zero only when
+            // the data are.
+            let pad = if integer_x {
+                ((x1 - x0) * 0.05).max(0.5)
+            } else {
+                ((x1 - x0) * 0.05).max(0.05)
+            };
+            let left = if x0 > 0.0 && x0 - pad < 0.0 {
+                0.0
+            } else {
+                x0 - pad
+            };
             let mut chart = ChartBuilder::on(area)
                 .caption(&panel.title, ("sans-serif", 16))
                 .margin(12)
                 .x_label_area_size(32)
                 .y_label_area_size(60)
-                .build_cartesian_2d((x0 - pad)..(x1 + pad), 0f64..(y1 * 1.15).max(1.0))
+                .build_cartesian_2d(left..(x1 + pad), 0f64..(y1 * 1.15).max(1.0))
                 .map_err(|e| err(&e))?;
             let span = (x1 - x0).max(0.0);
             let x_ticks = if integer_x {
@@ -125,7 +178,7 @@ pub fn line_panels(
                 if integer_x {
                     format!("{}", v.round() as i64)
                 } else {
-                    format!("{v}")
+                    tick_label(*v, span)
                 }
             };
             chart
@@ -206,6 +259,57 @@ mod tests {
             }],
         )
         .unwrap()
+    }
+
+    #[test]
+    fn fractional_axes_get_short_labels_and_a_long_legend_wraps_without_repeating_colours() {
+        // Ten series (like the HBMO paper's Figs. 5-6 side by side) with x in 0..0.8.
+        let series: Vec<Series> = (0..10)
+            .map(|k| Series {
+                name: format!("a long series name {k}"),
+                points: (0..5)
+                    .map(|i| (f64::from(i) * 0.2, f64::from(k + i)))
+                    .collect(),
+                ..Series::default()
+            })
+            .collect();
+        let svg = line_panels(
+            "t",
+            "swaps / robot",
+            "steps",
+            &[Panel {
+                title: "p".into(),
+                series,
+            }],
+        )
+        .unwrap();
+        // Every tick label is short: no "0.6000000000000001", none below zero.
+        let labels: Vec<&str> = svg
+            .split("<text")
+            .skip(1)
+            .filter_map(|t| Some(t.split('>').nth(1)?.split('<').next()?.trim()))
+            .collect();
+        assert!(labels.iter().all(|l| l.len() < 24), "{labels:?}");
+        assert!(
+            labels.contains(&"0.4") && !labels.iter().any(|l| l.starts_with("-0")),
+            "{labels:?}"
+        );
+        // Entries sit in more than one row, all above the panel, each in its own colour.
+        let rows: std::collections::BTreeSet<i64> = (0..10)
+            .map(|k| text_ys(&svg, &format!("a long series name {k}"))[0] as i64)
+            .collect();
+        assert!(rows.len() > 1, "{rows:?}");
+        assert!(rows.iter().all(|&y| (y as f64) < text_ys(&svg, "p")[0]));
+        let colours: std::collections::BTreeSet<&str> = svg
+            .split("stroke=\"")
+            .skip(1)
+            .filter_map(|t| t.split('"').next())
+            .filter(|c| c.starts_with('#') && *c != "#000000" && *c != "#FFFFFF")
+            .collect();
+        assert!(colours.len() >= 10, "{colours:?}");
+        assert_eq!(tick_label(0.6000000000000001, 0.8), "0.6");
+        assert_eq!(tick_label(-0.0, 1.0), "0");
+        assert_eq!(tick_label(1234.6, 2000.0), "1235");
     }
 
     /// The y coordinates of the SVG's text elements holding exactly `label`.
