@@ -3,11 +3,14 @@
 //! discs, goals as squares; the static picture of families without their own, e.g. trees). The
 //! colours are the page's.
 
-use mrpp_core::palette::agent_colour as colour;
+use mrpp_core::picture::{agent_colour as colour, wait_runs};
 use serde_json::Value;
 
 /// Width of pictures in pixels (the height follows the world's aspect ratio).
 const WIDTH: f64 = 800.0;
+
+/// Height of the whole-plan picture's legend band, in pixels.
+const LEGEND_PX: f64 = 22.0;
 
 fn point(v: &Value) -> [f64; 2] {
     [v[0].as_f64().unwrap_or(0.0), v[1].as_f64().unwrap_or(0.0)]
@@ -71,9 +74,13 @@ fn draw(scene: &Value, t: Option<usize>) -> String {
         ((p[0] - x0) * scale, y * scale)
     };
     let mut s = String::new();
+    // The whole-plan picture has a legend band under the world.
+    let band = if t.is_none() { LEGEND_PX } else { 0.0 };
     let _ = writeln!(
         s,
-        r##"<svg xmlns="http://www.w3.org/2000/svg" width="{w:.0}" height="{h:.0}" viewBox="0 0 {w:.0} {h:.0}"><rect width="100%" height="100%" fill="#fff"/>"##
+        r##"<svg xmlns="http://www.w3.org/2000/svg" width="{w:.0}" height="{:.0}" viewBox="0 0 {w:.0} {:.0}"><rect width="100%" height="100%" fill="#fff"/>"##,
+        h + band,
+        h + band
     );
     if let Some(rows) = scene["cells"]["rows"].as_array() {
         for (y, row) in rows.iter().enumerate() {
@@ -148,6 +155,24 @@ fn draw(scene: &Value, t: Option<usize>) -> String {
                 (scale * 0.12).max(1.0)
             );
         }
+        // Waits: a ring where an agent stands still before its last move.
+        for (i, a) in agents.iter().enumerate() {
+            let n = a["cells"]
+                .as_array()
+                .or(a["path"].as_array())
+                .map_or(0, Vec::len);
+            let points: Vec<[f64; 2]> = (0..n).filter_map(|k| at(scene, a, k)).collect();
+            let r = (a["radius"].as_f64().unwrap_or(0.4) * scale).max(1.5) * 1.3;
+            for (from, steps) in wait_runs(&points) {
+                let (x, y) = xy(points[from]);
+                let _ = write!(
+                    s,
+                    r##"<circle cx="{x:.2}" cy="{y:.2}" r="{r:.2}" fill="none" stroke="{}" stroke-width="{:.2}"><title>agent {i} waits {steps} step(s) at t={from}</title></circle>"##,
+                    colour(i),
+                    (1.0 + (steps as f64).ln()).min(4.0)
+                );
+            }
+        }
     }
     for (i, a) in agents.iter().enumerate() {
         let Some(p) = at(scene, a, t.unwrap_or(0)) else {
@@ -174,6 +199,18 @@ fn draw(scene: &Value, t: Option<usize>) -> String {
             s,
             r##"<text x="6" y="16" font-size="14" font-family="sans-serif" fill="#b00">t = {t}</text>"##
         );
+    } else {
+        let y = h + band / 2.0;
+        let _ = write!(
+            s,
+            r##"<g font-family="sans-serif" font-size="11" fill="#333"><circle cx="13" cy="{y:.2}" r="5" fill="#666"/><text x="22" y="{:.2}">start (id)</text><rect x="84" y="{:.2}" width="10" height="10" fill="none" stroke="#666" stroke-width="1.5"/><text x="100" y="{:.2}">goal</text><circle cx="142" cy="{y:.2}" r="5" fill="none" stroke="#666" stroke-width="1.5"/><text x="152" y="{:.2}">wait</text><text x="196" y="{:.2}">{} agents, one colour each</text></g>"##,
+            y + 4.0,
+            y - 5.0,
+            y + 4.0,
+            y + 4.0,
+            y + 4.0,
+            agents.len()
+        );
     }
     s.push_str("</svg>");
     s
@@ -194,7 +231,15 @@ mod tests {
         });
         let svg = paths_svg(&scene);
         assert_eq!(svg.matches("<polyline").count(), 2);
-        assert_eq!(svg.matches("<circle").count(), 2);
+        // Two discs and the legend's start and wait marks.
+        assert_eq!(svg.matches("<circle").count(), 4);
+        assert!(svg.contains(">2 agents, one colour each</text>"));
+        let waiting = serde_json::json!({
+            "bounds": [0.0, 0.0, 3.0, 1.0],
+            "agents": [{"radius": 0.4, "start": [0.5, 0.5], "goal": [2.5, 0.5],
+                "path": [[0.5, 0.5], [1.5, 0.5], [1.5, 0.5], [1.5, 0.5], [2.5, 0.5]]}]
+        });
+        assert!(paths_svg(&waiting).contains("<title>agent 0 waits 2 step(s) at t=1</title>"));
         assert!(frame_svg(&scene, 1).contains("t = 1"));
     }
 }

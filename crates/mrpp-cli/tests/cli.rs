@@ -2,6 +2,8 @@
 //! `mrpp validate` and the independent Python checker (`tools/check/grid.py`) both accept with the
 //! same metrics, and injected conflicts that both reject.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -401,6 +403,7 @@ fn hstar_table2_experiment_writes_its_files() {
         stdout.contains("seed 0") && stdout.contains(env!("CARGO_PKG_VERSION")),
         "{stdout}"
     );
+    assert!(common::every_svg_rasterises(&out) >= 1);
     let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
     let lines: Vec<&str> = csv.lines().collect();
     assert_eq!(

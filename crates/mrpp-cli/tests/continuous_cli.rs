@@ -3,6 +3,8 @@
 //! `tools/check/continuous.py`, with the same metrics; bad worlds are one-line errors naming the
 //! file and the item; a deadlock is reported as such, exit 3, never as a solved plan.
 
+mod common;
+
 use std::path::PathBuf;
 use std::process::Command;
 
@@ -225,6 +227,7 @@ fn hbmo_experiment_writes_its_page_and_ignores_the_thread_count() {
         ] {
             assert!(out.join(f).exists(), "{f}");
         }
+        assert!(common::every_svg_rasterises(&out) >= 4);
         let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
         // 16 worlds x 2 methods x 2 runs, without the machine-dependent runtime column.
         assert_eq!(csv.lines().count(), 1 + 16 * 2 * 2, "{csv}");

@@ -3,6 +3,8 @@
 //! the same c_max; `exact` is never worse than `ga`, nor `ga` than `sequential`; malformed polygon
 //! maps are one-line errors naming file and line.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -199,6 +201,7 @@ fn ga_formation_experiment_writes_its_page() {
         stdout.contains("| all | 14 |") && stdout.contains("| paper |"),
         "{stdout}"
     );
+    assert!(common::every_svg_rasterises(&out) >= 2);
     let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
     assert_eq!(csv.lines().count(), 1 + 7 * 2, "{csv}");
     // On every configuration: optimum <= GA <= sequential.

@@ -2,6 +2,8 @@
 //! `trees validate`, saved and bundled GP programs, reproducible GP runs, and one-line errors
 //! (exit 1, the file named, nothing written) for bad parameters, instances, programs and plans.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
@@ -711,6 +713,7 @@ fn gp_experiments_write_tables_csv_and_figures() {
     for f in ["table3.md", "fig4.svg", "fig5.svg"] {
         assert!(out3.join(f).exists(), "{f}");
     }
+    assert_eq!(common::every_svg_rasterises(&out3), 2);
     assert!(
         std::fs::read_to_string(out3.join("fig4.svg"))
             .unwrap()
@@ -742,6 +745,7 @@ fn gp_experiments_write_tables_csv_and_figures() {
     for f in ["programs.csv", "table4.md", "fig6.svg", "fig7.svg"] {
         assert!(out4.join(f).exists(), "{f}");
     }
+    assert_eq!(common::every_svg_rasterises(&out4), 2);
 
     let out5 = base.join("t5");
     let mut args = vec![
@@ -763,6 +767,7 @@ fn gp_experiments_write_tables_csv_and_figures() {
     let csv = std::fs::read_to_string(out5.join("results.csv")).unwrap();
     assert_eq!(csv.lines().count(), 5, "{csv}");
     assert!(out5.join("table5.svg").exists());
+    assert_eq!(common::every_svg_rasterises(&out5), 1);
 
     // Absurd parameters: one line, exit 1.
     for bad in [

@@ -6,7 +6,7 @@
 
 use std::fmt::Write as _;
 
-use mrpp_core::palette::agent_colour;
+use mrpp_core::picture::{agent_colour, wait_runs};
 
 use crate::problem::Trajectories;
 use crate::world::World;
@@ -74,7 +74,7 @@ pub fn render_svg(world: &World, plan: Option<&Trajectories>) -> String {
                     r##"<circle cx="{x:.2}" cy="{y:.2}" r="1.5" fill="{c}"/>"##
                 );
             }
-            for (from, steps) in waits(path) {
+            for (from, steps) in wait_runs(path) {
                 let (x, y) = xy(path[from]);
                 let _ = writeln!(
                     s,
@@ -125,49 +125,3 @@ pub fn render_svg(world: &World, plan: Option<&Trajectories>) -> String {
 
 /// Height of the legend band under the workspace, in pixels.
 const LEGEND_PX: f64 = 22.0;
-
-/// The runs of steps at which a robot stands still before its last move: `(first step, steps)`.
-fn waits(path: &[[f64; 2]]) -> Vec<(usize, usize)> {
-    let still = |k: usize| {
-        let (a, b) = (path[k], path[k + 1]);
-        (a[0] - b[0]).abs() <= 1e-9 && (a[1] - b[1]).abs() <= 1e-9
-    };
-    let Some(last_move) = (0..path.len().saturating_sub(1)).rev().find(|&k| !still(k)) else {
-        return Vec::new();
-    };
-    let mut runs = Vec::new();
-    let mut k = 0;
-    while k < last_move {
-        if still(k) {
-            let from = k;
-            while k < last_move && still(k) {
-                k += 1;
-            }
-            runs.push((from, k - from));
-        } else {
-            k += 1;
-        }
-    }
-    runs
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn waits_are_runs_of_still_steps_before_the_last_move() {
-        let p = [
-            [0.0, 0.0],
-            [0.0, 0.0],
-            [0.0, 0.0],
-            [1.0, 0.0],
-            [1.0, 0.0],
-            [2.0, 0.0],
-            [2.0, 0.0],
-        ];
-        assert_eq!(waits(&p), vec![(0, 2), (3, 1)]);
-        assert!(waits(&[[0.0, 0.0], [0.0, 0.0]]).is_empty());
-        assert!(waits(&[]).is_empty());
-    }
-}

@@ -9,7 +9,7 @@
 //! - [`envelope`]: the one versioned JSON plan file of every family.
 //! - [`mapf`]: graph (CSR), instance, [`Rules`] (goal semantics, following), plan, validator,
 //!   metrics and the shared searches (BFS tables, space-time A*).
-//! - [`seeds`]: per-job seed derivation; [`palette`]: the agents' colours of every picture;
+//! - [`seeds`]: per-job seed derivation; [`picture`]: the agents' colours and waits of every picture;
 //!   [`error`]: typed errors.
 //!
 //! No family, no file format of another tool and no geometry dependency lives here. The library
@@ -19,7 +19,7 @@ pub mod contract;
 pub mod envelope;
 pub mod error;
 pub mod mapf;
-pub mod palette;
+pub mod picture;
 pub mod registry;
 pub mod seeds;
 

@@ -7,7 +7,7 @@
 
 use std::fmt::Write as _;
 
-use mrpp_core::palette::agent_colour;
+use mrpp_core::picture::agent_colour;
 
 use crate::polymap::PolygonMap;
 use crate::problem::{FormationPlan, FormationProblem};

@@ -19,7 +19,7 @@ use crate::map::GridMap;
 use mrpp_core::mapf::graph::VertexId;
 use mrpp_core::mapf::instance::Instance;
 use mrpp_core::mapf::plan::Plan;
-use mrpp_core::palette::agent_colour;
+use mrpp_core::picture::{agent_colour, wait_runs};
 
 /// Cell size in pixels for maps small enough to afford it.
 pub const CELL_PX: f64 = 16.0;
@@ -141,21 +141,7 @@ pub fn render_svg(map: &GridMap, inst: &Instance, plan: Option<&Plan>) -> String
     if let Some(plan) = plan {
         let _ = writeln!(s, r#"<g fill="none">"#);
         for (i, p) in plan.paths.iter().enumerate() {
-            let end = p
-                .iter()
-                .rposition(|&v| v != inst.goals[i])
-                .map_or(0, |k| k + 1);
-            let mut k = 1;
-            while k < end {
-                if p[k] != p[k - 1] {
-                    k += 1;
-                    continue;
-                }
-                let from = k - 1;
-                while k < end && p[k] == p[from] {
-                    k += 1;
-                }
-                let steps = k - 1 - from;
+            for (from, steps) in wait_runs(p) {
                 let (cx, cy) = centre(p[from]);
                 let _ = writeln!(
                     s,

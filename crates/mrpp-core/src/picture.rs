@@ -1,5 +1,6 @@
-//! The one agent palette of every mrpp picture and of the viewer page (`mrpp view`): agent `i`'s
-//! hue advances by the golden angle (137.508°), saturation 70%, and the lightness cycles through
+//! What every mrpp picture shares: the agents' colours and where they wait.
+//!
+//! The palette is also the viewer page's (`mrpp view`): agent `i`'s hue advances by the golden angle (137.508°), saturation 70%, and the lightness cycles through
 //! three bands (45%, 32%, 58%) every 7 agents, so neighbours in id order differ in hue and
 //! agents whose hues come close again differ in lightness. The page computes the same
 //! `hsl(137.508 i, 70%, l)` in JavaScript; a test pins the values here to Python's
@@ -36,9 +37,42 @@ pub fn agent_colour(i: usize) -> String {
     )
 }
 
+/// The waits of a path (one entry per time step): each run of steps at which the agent stays
+/// where it is, before its last move, as `(first step, steps)`. Staying at the end is arrival,
+/// not waiting.
+pub fn wait_runs<T: PartialEq>(path: &[T]) -> Vec<(usize, usize)> {
+    let Some(last_move) = (1..path.len()).rev().find(|&k| path[k] != path[k - 1]) else {
+        return Vec::new();
+    };
+    let mut runs = Vec::new();
+    let mut k = 0;
+    while k < last_move {
+        if path[k + 1] == path[k] {
+            let from = k;
+            while k < last_move && path[k + 1] == path[k] {
+                k += 1;
+            }
+            runs.push((from, k - from));
+        } else {
+            k += 1;
+        }
+    }
+    runs
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn waits_are_runs_of_still_steps_before_the_last_move() {
+        assert_eq!(wait_runs(&[0, 0, 0, 1, 1, 2, 2, 2]), vec![(0, 2), (3, 1)]);
+        assert_eq!(wait_runs(&[5, 6, 6, 5, 5]), vec![(1, 1)]);
+        assert!(wait_runs(&[3, 3]).is_empty());
+        assert!(wait_runs::<u32>(&[]).is_empty());
+        let p = [[0.0, 0.0], [0.0, 0.0], [1.0, 0.0]];
+        assert_eq!(wait_runs(&p), vec![(0, 1)]);
+    }
 
     #[test]
     fn colours_match_the_page_and_do_not_repeat() {
