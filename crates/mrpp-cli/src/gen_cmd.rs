@@ -1,4 +1,4 @@
-//! `mrpp gen ...`: problem files from seeds — polygon worlds (stand-ins for the GA paper's maps
+//! `mrpp gen ...`: problem files from seeds — random grid maps and MovingAI scenarios, polygon worlds (stand-ins for the GA paper's maps
 //! that are not public) and formation files (random Q_ini/Q_goal on a map).
 
 use std::path::PathBuf;
@@ -22,6 +22,21 @@ pub(crate) enum Gen {
         map: PathBuf,
         #[arg(long)]
         agents: usize,
+        #[arg(long, default_value_t = 0)]
+        seed: u64,
+        #[arg(long)]
+        out: PathBuf,
+    },
+    /// A random MovingAI grid map: --width x --height cells, each an obstacle with probability
+    /// --obstacles (seeded), e.g. a 500 x 500 map for 10,000 agents.
+    Map {
+        #[arg(long)]
+        width: usize,
+        #[arg(long)]
+        height: usize,
+        /// Fraction of cells that are obstacles (0 to 0.9).
+        #[arg(long, default_value_t = 0.1)]
+        obstacles: f64,
         #[arg(long, default_value_t = 0)]
         seed: u64,
         #[arg(long)]
@@ -103,6 +118,23 @@ pub(crate) fn run(cmd: Gen) -> Result<u8, Fail> {
                 "mrpp {} | gen scen | map {} | agents {agents} | seed {seed} | written to {}",
                 env!("CARGO_PKG_VERSION"),
                 file_name(&map),
+                out.display()
+            );
+            Ok(0)
+        }
+        Gen::Map {
+            width,
+            height,
+            obstacles,
+            seed,
+            out,
+        } => {
+            let text = mrpp_grid::scen::random_map_text(width, height, obstacles, seed)
+                .map_err(|e| Fail(format!("gen map: {e}")))?;
+            write_atomic(&out, text)?;
+            println!(
+                "mrpp {} | gen map | {width} x {height} | obstacles {obstacles} | seed {seed} | written to {}",
+                env!("CARGO_PKG_VERSION"),
                 out.display()
             );
             Ok(0)

@@ -680,3 +680,81 @@ fn render_writes_png_and_animated_gif_by_extension_and_refuses_others() {
     assert_eq!(text.matches("<polyline").count(), robots);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+#[test]
+fn gen_map_then_scen_then_lacam_gives_a_valid_plan_and_bad_maps_are_refused() {
+    let map = tmp("gen-20x10.map");
+    let scen = tmp("gen-20x10.scen");
+    let plan = tmp("gen-20x10.json");
+    let m = map.to_str().unwrap();
+    let o = mrpp(&[
+        "gen",
+        "map",
+        "--width",
+        "20",
+        "--height",
+        "10",
+        "--obstacles",
+        "0.2",
+        "--seed",
+        "4",
+        "--out",
+        m,
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
+    let first = std::fs::read_to_string(&map).unwrap();
+    assert!(first.starts_with("type octile\nheight 10\nwidth 20\nmap\n"));
+    let o = mrpp(&[
+        "gen",
+        "scen",
+        "--map",
+        m,
+        "--agents",
+        "30",
+        "--seed",
+        "1",
+        "--out",
+        scen.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
+    let o = mrpp(&[
+        "solve",
+        "--map",
+        m,
+        "--scen",
+        scen.to_str().unwrap(),
+        "--planner",
+        "lacam",
+        "--out",
+        plan.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
+    let o = mrpp(&["validate", "--map", m, "--plan", plan.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
+    // Absurd parameters: one line, exit 1, the existing file untouched.
+    for (w, h, p) in [
+        ("0", "10", "0.1"),
+        ("20", "10", "0.95"),
+        ("20", "10", "NaN"),
+    ] {
+        let o = mrpp(&[
+            "gen",
+            "map",
+            "--width",
+            w,
+            "--height",
+            h,
+            "--obstacles",
+            p,
+            "--out",
+            m,
+        ]);
+        let (_, err) = text(&o);
+        assert_eq!(o.status.code(), Some(1), "{err}");
+        assert!(
+            err.contains("gen map:") && err.lines().count() == 1,
+            "{err}"
+        );
+        assert_eq!(std::fs::read_to_string(&map).unwrap(), first);
+    }
+}

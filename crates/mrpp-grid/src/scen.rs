@@ -229,6 +229,46 @@ pub fn random_instance(
     Instance::new(starts, goals)
 }
 
+/// A random MovingAI map (`type octile`; what `mrpp gen map` writes): `width` x `height` cells,
+/// each an obstacle (`@`) with probability `obstacles`, independently (seeded), else free (`.`),
+/// like MovingAI's `random-*` maps. Agents are then placed in its largest connected area by
+/// [`random_instance`].
+///
+/// # Errors
+/// A message when a side is not in 1..=10 000 or `obstacles` is not in 0..=0.9.
+pub fn random_map_text(
+    width: usize,
+    height: usize,
+    obstacles: f64,
+    seed: u64,
+) -> std::result::Result<String, String> {
+    use rand::{RngExt, SeedableRng};
+    if !(1..=10_000).contains(&width) || !(1..=10_000).contains(&height) {
+        return Err(format!(
+            "width and height must be 1 to 10000 cells, got {width} x {height}"
+        ));
+    }
+    if !(0.0..=0.9).contains(&obstacles) {
+        return Err(format!(
+            "obstacles must be a fraction from 0 to 0.9, got {obstacles}"
+        ));
+    }
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let mut s = format!("type octile\nheight {height}\nwidth {width}\nmap\n");
+    s.reserve((width + 1) * height);
+    for _ in 0..height {
+        for _ in 0..width {
+            s.push(if rng.random::<f64>() < obstacles {
+                '@'
+            } else {
+                '.'
+            });
+        }
+        s.push('\n');
+    }
+    Ok(s)
+}
+
 /// `inst` as a MovingAI `.scen` (`version 1`; bucket = distance / 4; the last field is the
 /// 4-connected shortest distance, where MovingAI's own files give the octile one).
 pub fn scen_text(map: &GridMap, map_file: &str, inst: &Instance) -> String {
@@ -251,6 +291,19 @@ pub fn scen_text(map: &GridMap, map_file: &str, inst: &Instance) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn random_maps_are_seeded_and_checked() {
+        let a = random_map_text(7, 3, 0.3, 5).unwrap();
+        assert_eq!(a, random_map_text(7, 3, 0.3, 5).unwrap());
+        assert_ne!(a, random_map_text(7, 3, 0.3, 6).unwrap());
+        let (m, _) = GridMap::parse(&a, Path::new("r.map")).unwrap();
+        assert_eq!((m.width(), m.height()), (7, 3));
+        assert!(random_map_text(0, 3, 0.1, 0).is_err());
+        assert!(random_map_text(3, 3, 0.95, 0).is_err());
+        assert!(random_map_text(3, 3, f64::NAN, 0).is_err());
+        assert!(!random_map_text(9, 9, 0.0, 0).unwrap().contains('@'));
+    }
 
     fn map() -> GridMap {
         GridMap::parse("#####\n#   #\n# # #\n#   #\n#####", Path::new("m.txt"))

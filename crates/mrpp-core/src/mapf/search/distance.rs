@@ -42,16 +42,23 @@ pub fn goal_distance_tables(g: &Graph, goals: &[VertexId]) -> Vec<Vec<u32>> {
 
 /// One BFS distance table per agent goal, grown lazily (as in Okumura's LaCAM code): agent `i`'s
 /// breadth-first search from its goal runs only as far as the queries need and resumes where it
-/// stopped, so an agent that never looks far never pays for the whole map. A table stores 2 bytes
-/// per vertex (4 once a distance reaches 65 535, which needs a path that long), allocated at its
-/// first query; the BFS queue holds only the frontier and is freed when the search is done.
-/// [`GoalDistances::warm_up`] grows every table up to a given vertex in parallel (rayon); the
-/// values never depend on the order or the thread count of queries.
+/// stopped, so an agent that never looks far never pays for the whole map. The BFS queue holds
+/// only the frontier and is freed when the search is done. [`GoalDistances::warm_up`] grows every
+/// table up to a given vertex in parallel (rayon); the values never depend on the order or the
+/// thread count of queries.
 ///
-/// Memory: agents × vertices × 2 bytes once a table is touched (e.g. 10 000 agents on the 38 756
-/// free cells of MovingAI's warehouse-20-40-10-2-2: 775 MB). A table is allocated whole at its
-/// first query; on open maps the search grows over most of the map before it reaches an agent
-/// far from its goal, so lazier storage would save little.
+/// Storage, allocated whole at a table's first query (on open maps the search grows over most of
+/// the map before it reaches an agent far from its goal, so lazier storage would save little):
+/// - 2 bytes per vertex (4 once a distance reaches 65 535), while agents × vertices is at most
+///   [`PACK_ENTRIES`] (e.g. 10 000 agents on the 38 756 free cells of MovingAI's
+///   warehouse-20-40-10-2-2: 775 MB);
+/// - beyond, **2 bits per vertex** (10 000 agents on a 500 x 500 map: 625 MB instead of 5 GB):
+///   each vertex keeps its distance modulo 3 (0 = not reached yet). Adjacent vertices' distances
+///   differ by at most 1, so the code of a neighbour tells its distance from a known one; a table
+///   remembers its last answer (its *anchor*) and finds a new vertex's distance through a short
+///   walk to the anchor (within 3 steps), or else by walking down the codes to the goal, one
+///   step per unit of distance. Planners query the neighbourhood of an agent's last position,
+///   so most answers are a few steps from the anchor.
 pub struct GoalDistances<'g> {
     graph: &'g Graph,
     goals: Vec<VertexId>,
@@ -59,22 +66,30 @@ pub struct GoalDistances<'g> {
     /// Every table, complete, when [`GoalDistances::warm_up`] found them small enough to finish
     /// (read without locking).
     complete: Option<Vec<Store>>,
+    packed: bool,
 }
 
 /// [`GoalDistances::warm_up`] completes every table when agents × vertices is at most this.
 const COMPLETE_ENTRIES: usize = 1 << 26;
 
-/// A table's storage: 2 or 4 bytes per vertex.
+/// Tables store 2 bits per vertex instead of 2 bytes when agents × vertices exceeds this (2 bytes
+/// each would then take more than 1 GiB).
+pub const PACK_ENTRIES: usize = 1 << 29;
+
+/// A table's storage: 2 or 4 bytes per vertex, or 2 bits (the distance modulo 3, plus 1; 0 = not
+/// reached).
 enum Store {
     Unallocated,
     Narrow(Vec<u16>),
     Wide(Vec<u32>),
+    Packed(Vec<u8>),
 }
 
 impl Store {
+    /// The distance of `v` (not for `Packed`, which knows distances only modulo 3).
     fn get(&self, v: usize) -> u32 {
         match self {
-            Store::Unallocated => UNREACHABLE,
+            Store::Unallocated | Store::Packed(_) => UNREACHABLE,
             Store::Narrow(d) => match d[v] {
                 u16::MAX => UNREACHABLE,
                 x => u32::from(x),
@@ -82,9 +97,24 @@ impl Store {
             Store::Wide(d) => d[v],
         }
     }
+    /// `Packed`: 1 + the distance of `v` modulo 3, or 0 when `v` is not reached yet.
+    #[inline]
+    fn code(bits: &[u8], v: usize) -> u8 {
+        (bits[v >> 2] >> ((v & 3) * 2)) & 3
+    }
+    fn seen(&self, v: usize) -> bool {
+        match self {
+            Store::Packed(b) => Store::code(b, v) != 0,
+            _ => self.get(v) != UNREACHABLE,
+        }
+    }
     fn set(&mut self, v: usize, x: u32) {
         match self {
             Store::Unallocated => unreachable!("set after allocation"),
+            Store::Packed(b) => {
+                let shift = (v & 3) * 2;
+                b[v >> 2] = (b[v >> 2] & !(3 << shift)) | (((x % 3) as u8 + 1) << shift);
+            }
             Store::Narrow(d) if x < u32::from(u16::MAX) => d[v] = x as u16,
             Store::Narrow(d) => {
                 // A distance of 65 535 or more: this table needs 4 bytes per vertex after all.
@@ -109,7 +139,13 @@ impl Store {
 /// One agent's resumable BFS.
 struct LazyBfs {
     dist: Store,
+    /// The frontier: first the rest of the layer at distance `front_d` (`front_left` vertices),
+    /// then the next layer.
     queue: VecDeque<VertexId>,
+    front_d: u32,
+    front_left: usize,
+    /// Packed tables: the last vertex answered and its distance.
+    anchor: (VertexId, u32),
 }
 
 impl LazyBfs {
@@ -119,11 +155,35 @@ impl LazyBfs {
             self.queue = VecDeque::new();
             return false;
         };
-        let d = self.dist.get(u as usize) + 1;
-        for &w in g.neighbors(u) {
-            if self.dist.get(w as usize) == UNREACHABLE {
-                self.dist.set(w as usize, d);
-                self.queue.push_back(w);
+        let du = self.front_d;
+        match &mut self.dist {
+            // The hot loop of huge instances, without a storage match per neighbour.
+            Store::Packed(bits) => {
+                let code = (du + 1) % 3 + 1;
+                for &w in g.neighbors(u) {
+                    let (byte, shift) = (w as usize >> 2, (w as usize & 3) * 2);
+                    if (bits[byte] >> shift) & 3 == 0 {
+                        bits[byte] |= (code as u8) << shift;
+                        self.queue.push_back(w);
+                    }
+                }
+            }
+            dist => {
+                for &w in g.neighbors(u) {
+                    if !dist.seen(w as usize) {
+                        dist.set(w as usize, du + 1);
+                        self.queue.push_back(w);
+                    }
+                }
+            }
+        }
+        self.front_left -= 1;
+        if self.front_left == 0 {
+            self.front_d += 1;
+            self.front_left = self.queue.len();
+            // A frontier that shrank gives back its memory (10 000 queues add up).
+            if self.queue.capacity() > 256 && self.queue.len() < self.queue.capacity() / 4 {
+                self.queue.shrink_to(self.queue.capacity() / 2);
             }
         }
         true
@@ -136,28 +196,92 @@ impl LazyBfs {
 
     /// Distance from `v` to the table's goal, growing the search until `v` is reached or the
     /// component is exhausted.
-    fn get(&mut self, g: &Graph, goal: VertexId, v: VertexId) -> u32 {
+    fn get(&mut self, g: &Graph, goal: VertexId, v: VertexId, packed: bool) -> u32 {
         if matches!(self.dist, Store::Unallocated) {
-            self.dist = Store::Narrow(vec![u16::MAX; g.num_vertices()]);
+            let n = g.num_vertices();
+            self.dist = if packed {
+                Store::Packed(vec![0; n.div_ceil(4)])
+            } else {
+                Store::Narrow(vec![u16::MAX; n])
+            };
             self.dist.set(goal as usize, 0);
             self.queue.push_back(goal);
+            (self.front_d, self.front_left) = (0, 1);
+            self.anchor = (goal, 0);
         }
-        let known = self.dist.get(v as usize);
-        if known != UNREACHABLE {
-            return known;
-        }
-        while self.step(g) {
-            if self.dist.get(v as usize) != UNREACHABLE {
-                return self.dist.get(v as usize);
+        while !self.dist.seen(v as usize) {
+            if !self.step(g) {
+                return UNREACHABLE;
             }
         }
-        UNREACHABLE
+        match &self.dist {
+            Store::Packed(bits) => {
+                let d = resolve(g, bits, goal, self.anchor, v);
+                self.anchor = (v, d);
+                d
+            }
+            other => other.get(v as usize),
+        }
     }
 }
 
+/// The distance of the reached vertex `v` in a packed table, from the anchor `(a, da)` when a
+/// walk of at most 3 steps over reached vertices joins them, else by walking down to `goal`.
+fn resolve(g: &Graph, bits: &[u8], goal: VertexId, (a, da): (VertexId, u32), v: VertexId) -> u32 {
+    let code = |x: VertexId| Store::code(bits, x as usize);
+    // d(y) - d(x) for adjacent reached x, y: their codes differ by 0, +1 or -1 modulo 3.
+    let delta = |x: VertexId, y: VertexId| match (code(y) + 3 - code(x)) % 3 {
+        0 => 0i64,
+        1 => 1,
+        _ => -1,
+    };
+    if v == a {
+        return da;
+    }
+    // Breadth-first over reached vertices around `v`, carrying d(x) - d(v).
+    let mut layer: Vec<(VertexId, i64)> = vec![(v, 0)];
+    let mut visited: Vec<VertexId> = vec![v];
+    for _ in 0..3 {
+        let mut next = Vec::new();
+        for &(x, off) in &layer {
+            for &y in g.neighbors(x) {
+                if code(y) == 0 || visited.contains(&y) {
+                    continue;
+                }
+                let oy = off + delta(x, y);
+                if y == a {
+                    return (i64::from(da) - oy) as u32;
+                }
+                visited.push(y);
+                next.push((y, oy));
+            }
+        }
+        layer = next;
+    }
+    // Down the codes to the goal: some neighbour is one closer (a BFS predecessor).
+    let (mut x, mut d) = (v, 0u32);
+    while x != goal {
+        x = *g
+            .neighbors(x)
+            .iter()
+            .find(|&&y| code(y) != 0 && delta(x, y) == -1)
+            .expect("a reached vertex has a reached predecessor");
+        d += 1;
+    }
+    d
+}
+
 impl<'g> GoalDistances<'g> {
-    /// Empty tables for `goals` on `graph` (nothing is searched yet).
+    /// Empty tables for `goals` on `graph` (nothing is searched yet); packed (2 bits per vertex)
+    /// when agents × vertices exceeds [`PACK_ENTRIES`].
     pub fn new(graph: &'g Graph, goals: &[VertexId]) -> Self {
+        let packed = goals.len().saturating_mul(graph.num_vertices()) > PACK_ENTRIES;
+        Self::with_packing(graph, goals, packed)
+    }
+
+    /// Empty tables for `goals` on `graph`, packed or not as asked (the distances are the same;
+    /// packed tables take 2 bits per vertex instead of 2 bytes, and answer far jumps slower).
+    pub fn with_packing(graph: &'g Graph, goals: &[VertexId], packed: bool) -> Self {
         GoalDistances {
             graph,
             goals: goals.to_vec(),
@@ -167,11 +291,20 @@ impl<'g> GoalDistances<'g> {
                     std::sync::Mutex::new(LazyBfs {
                         dist: Store::Unallocated,
                         queue: VecDeque::new(),
+                        front_d: 0,
+                        front_left: 0,
+                        anchor: (0, 0),
                     })
                 })
                 .collect(),
             complete: None,
+            packed,
         }
+    }
+
+    /// Whether the tables store 2 bits per vertex.
+    pub fn is_packed(&self) -> bool {
+        self.packed
     }
 
     /// Hop distance from `v` to agent `i`'s goal ([`UNREACHABLE`] when there is no route).
@@ -183,7 +316,7 @@ impl<'g> GoalDistances<'g> {
         self.tables[i]
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner)
-            .get(self.graph, self.goals[i], v)
+            .get(self.graph, self.goals[i], v, self.packed)
     }
 
     /// Grows every agent's table until it reaches `at[i]` (typically the starts), in parallel.
@@ -191,8 +324,9 @@ impl<'g> GoalDistances<'g> {
     /// queries read them without locking.
     pub fn warm_up(&mut self, at: &[VertexId]) {
         use rayon::prelude::*;
-        let (g, goals) = (self.graph, &self.goals);
-        let finish = at.len() == goals.len()
+        let (g, goals, packed) = (self.graph, &self.goals, self.packed);
+        let finish = !packed
+            && at.len() == goals.len()
             && goals.len().saturating_mul(g.num_vertices()) <= COMPLETE_ENTRIES;
         self.tables
             .par_iter_mut()
@@ -202,7 +336,7 @@ impl<'g> GoalDistances<'g> {
                 let t = t
                     .get_mut()
                     .unwrap_or_else(std::sync::PoisonError::into_inner);
-                t.get(g, goals[i], v);
+                t.get(g, goals[i], v, packed);
                 if finish {
                     t.finish(g);
                 }
@@ -362,6 +496,55 @@ mod tests {
             }
             for v in 0..21 {
                 assert_eq!(warmed.get(i, v), table[v as usize], "agent {i} vertex {v}");
+            }
+        }
+    }
+
+    #[test]
+    fn packed_tables_equal_full_bfs_near_and_far_in_any_order() {
+        // A 12x9 grid with walls, so distances are not Manhattan; queries jump around (far from
+        // the anchor) and step to neighbours (near it).
+        let (w, h) = (12u32, 9u32);
+        let id = |x: u32, y: u32| y * w + x;
+        let wall = |x: u32, y: u32| (x == 4 && y < 7) || (x == 8 && y > 1);
+        let mut edges = Vec::new();
+        for y in 0..h {
+            for x in 0..w {
+                if wall(x, y) {
+                    continue;
+                }
+                if x + 1 < w && !wall(x + 1, y) {
+                    edges.push((id(x, y), id(x + 1, y)));
+                }
+                if y + 1 < h && !wall(x, y + 1) {
+                    edges.push((id(x, y), id(x, y + 1)));
+                }
+            }
+        }
+        let n = (w * h) as usize;
+        let g = Graph::from_edges(n, &edges);
+        let goals = [id(0, 0), id(11, 8), id(5, 4), id(4, 0)]; // the last is a wall: isolated
+        let full = goal_distance_tables(&g, &goals);
+        let packed = GoalDistances::with_packing(&g, &goals, true);
+        assert!(packed.is_packed() && !GoalDistances::new(&g, &goals).is_packed());
+        let mut x = 12345u64;
+        for _ in 0..4000 {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            let i = (x % goals.len() as u64) as usize;
+            let v = ((x >> 8) % n as u64) as VertexId;
+            assert_eq!(
+                packed.get(i, v),
+                full[i][v as usize],
+                "agent {i} vertex {v}"
+            );
+            for &u in g.neighbors(v) {
+                assert_eq!(
+                    packed.get(i, u),
+                    full[i][u as usize],
+                    "agent {i} vertex {u}"
+                );
             }
         }
     }
