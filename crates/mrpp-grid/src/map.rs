@@ -25,7 +25,9 @@ pub struct GridMap {
 /// Which text format a map file was read from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MapFormat {
-    /// MovingAI: `type`, `height`, `width`, `map` header then rows of `.`/`@`/`T`...
+    /// MovingAI: a `type`, `height`, `width` header (any order; `type` optional), `map`, then rows
+    /// of MovingAI's terrain characters: `.`, `G` and `S` (swamp) are free; `@`, `O`, `T` (trees)
+    /// and `W` (water, which cannot be entered from land) are walls.
     MovingAi,
     /// H* paper: rows of `#` (wall) and space (free); CRLF and a missing final newline tolerated.
     Ascii,
@@ -83,8 +85,15 @@ impl GridMap {
 
     /// Parses map text; `path` only names the source in errors.
     pub fn parse(text: &str, path: &Path) -> Result<(Self, MapFormat)> {
+        // MovingAI: a header of `type`, `height`, `width` in any order (the visualizer's own
+        // examples have no `type` line), then `map`.
         let first = text.lines().find(|l| !l.trim().is_empty()).unwrap_or("");
-        if first.trim_start().starts_with("type ") {
+        let word = first.split_whitespace().next().unwrap_or("");
+        let number = first
+            .split_whitespace()
+            .nth(1)
+            .is_some_and(|v| v.parse::<u32>().is_ok());
+        if word == "type" || (matches!(word, "height" | "width") && number) {
             Ok((parse_movingai(text, path)?, MapFormat::MovingAi))
         } else {
             Ok((parse_ascii(text, path)?, MapFormat::Ascii))
@@ -298,6 +307,28 @@ mod tests {
         assert_eq!(m.cell(v), (0, 1));
         assert_eq!(m.graph().degree(v), 2);
         assert!(m.vertex_at(1, 0).is_none());
+    }
+
+    #[test]
+    fn movingai_headers_in_any_order_without_type_and_every_terrain_character() {
+        let with =
+            GridMap::parse("type octile\nheight 2\nwidth 4\nmap\n.GS@\nOTW.\n", p()).unwrap();
+        for text in [
+            "height 2\nwidth 4\nmap\n.GS@\nOTW.\n",
+            "width 4\nheight 2\nmap\n.GS@\nOTW.\n",
+            "width 4\ntype octile\nheight 2\nmap\n.GS@\nOTW.\n",
+        ] {
+            let (m, f) = GridMap::parse(text, p()).unwrap();
+            assert_eq!(f, MapFormat::MovingAi, "{text}");
+            assert_eq!((m.width(), m.height()), (4, 2));
+            for (x, y) in [(0, 0), (1, 0), (2, 0), (3, 1)] {
+                assert!(m.is_free(x, y), "({x},{y}) in {text}");
+            }
+            for (x, y) in [(3, 0), (0, 1), (1, 1), (2, 1)] {
+                assert!(!m.is_free(x, y), "({x},{y}) in {text}");
+            }
+            assert_eq!(m.graph().num_vertices(), with.0.graph().num_vertices());
+        }
     }
 
     #[test]

@@ -27,8 +27,12 @@ pub fn parse_agents(
     map: &GridMap,
     agents: Option<usize>,
 ) -> Result<Instance> {
+    // A `.scen` starts with `version 1` (or `version 1.0`), or, without it, with a line of at
+    // least 8 fields (bucket, map, width, height, start x, y, goal x, y, ...); a robot file's
+    // lines are `x,y;x,y`.
     let first = text.lines().find(|l| !l.trim().is_empty()).unwrap_or("");
-    let entries = if first.trim_start().starts_with("version") {
+    let scen_line = first.contains('\t') || first.split_whitespace().count() >= 8;
+    let entries = if first.trim_start().starts_with("version") || scen_line {
         parse_scen(text, path, map)?
     } else {
         parse_robots(text, path)?
@@ -324,6 +328,22 @@ mod tests {
         assert_eq!(inst.num_agents(), 2);
         assert_eq!(m.cell(inst.starts[1]), (3, 1));
         assert_eq!(m.cell(inst.goals[0]), (3, 3));
+    }
+
+    #[test]
+    fn scen_with_version_1_0_or_no_version_line() {
+        let m = map();
+        let body = "0\tm.map\t5\t5\t1\t1\t3\t3\t4\n0\tm.map\t5\t5\t3\t1\t1\t3\t4\n";
+        let want =
+            parse_agents(&format!("version 1\n{body}"), Path::new("a.scen"), &m, None).unwrap();
+        for text in [
+            format!("version 1.0\n{body}"),
+            body.to_string(),
+            body.replace('\t', " "),
+        ] {
+            let got = parse_agents(&text, Path::new("a.scen"), &m, None).unwrap();
+            assert_eq!(got, want, "{text}");
+        }
     }
 
     #[test]

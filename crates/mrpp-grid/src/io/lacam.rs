@@ -20,7 +20,9 @@
 //! Cells are `(x,y)` with x the column and y the row. Each `solution` line is the configuration of
 //! all agents at one time step, from 0 to the makespan; an agent whose path has ended is repeated
 //! on its last cell. Keys the reader does not know (`soc_lb`, `makespan_lb`, `seed`, ...) are
-//! skipped, as LaCAM's variants add their own.
+//! skipped, as LaCAM's variants add their own. A file of step lines alone (pypibt's output and
+//! the visualizer's demos, with or without `solution=`) is read as solved, its starts step 0 and
+//! its goals the last step.
 
 use std::fmt::Write as _;
 use std::path::Path;
@@ -127,6 +129,14 @@ pub fn parse_lacam(text: &str, path: &Path, map: &GridMap) -> Result<(Instance, 
         if line.is_empty() {
             continue;
         }
+        // A step line before any `solution=`: a solution-only file (pypibt's output, the
+        // visualizer's demos).
+        let step_line = line.split_once(':').is_some_and(|(t, _)| {
+            !t.trim().is_empty() && t.trim().chars().all(|c| c.is_ascii_digit())
+        }) && !line.contains('=');
+        if step_line && !in_solution && steps.is_empty() {
+            in_solution = true;
+        }
         if in_solution {
             let (t, rest) = line.split_once(':').ok_or_else(|| {
                 Error::parse(path, no, format!("expected `t:(x,y),...`, found `{line}`"))
@@ -196,6 +206,15 @@ pub fn parse_lacam(text: &str, path: &Path, map: &GridMap) -> Result<(Instance, 
         }
     }
     let missing = |key: &str| Error::parse(path, last_line.max(1), format!("no `{key}=` line"));
+    // Without any header key, the steps say it all: the agents are step 0's, solved, from step
+    // 0's cells to the last step's. With a header, every key is required.
+    let bare = agents.is_none() && solved.is_none() && starts.is_none() && goals.is_none();
+    if bare && let Some((cfg, line)) = steps.first() {
+        agents = Some((cfg.len(), *line));
+        solved = Some((true, *line));
+        starts = steps.first().cloned();
+        goals = steps.last().cloned();
+    }
     let (n, agents_line) = agents.ok_or_else(|| missing("agents"))?;
     let (solved, _) = solved.ok_or_else(|| missing("solved"))?;
     if !solved {
@@ -335,6 +354,26 @@ mod tests {
             .validate(&plan)
             .unwrap();
         (m, inst, plan, metrics)
+    }
+
+    #[test]
+    fn a_solution_only_file_is_read_as_solved_from_its_first_to_its_last_step() {
+        let (m, inst, plan, _) = tiny();
+        for text in [
+            "0:(0,0),(2,2),\n1:(1,0),(2,2),\n2:(2,0),(2,1),\n",
+            "solution=\n0:(0,0),(2,2)\n1:(1,0),(2,2)\n2:(2,0),(2,1)\n",
+        ] {
+            let (i, p) = parse_lacam(text, Path::new("r.txt"), &m).unwrap();
+            assert_eq!((i, p), (inst.clone(), plan.clone()), "{text}");
+        }
+        // Still one-line errors when the steps are broken.
+        let err = parse_lacam("0:(0,0),(2,2),\n2:(2,0),(2,1),\n", Path::new("r.txt"), &m)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            err.contains("r.txt:2") && err.contains("step 2 where step 1"),
+            "{err}"
+        );
     }
 
     #[test]
