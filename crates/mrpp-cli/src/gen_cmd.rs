@@ -1,5 +1,6 @@
-//! `mrpp gen ...`: problem files from seeds — random grid maps and MovingAI scenarios, polygon worlds (stand-ins for the GA paper's maps
-//! that are not public) and formation files (random Q_ini/Q_goal on a map).
+//! `mrpp gen ...`: problem files from seeds — random grid maps and MovingAI scenarios, polygon
+//! worlds (stand-ins for the GA paper's maps that are not public), formation files (random
+//! Q_ini/Q_goal on a map) and continuous worlds.
 
 use std::path::PathBuf;
 

@@ -79,6 +79,7 @@ fn write_plan(
                 problem.instance(),
                 solved,
                 info.runtime_ms,
+                info.seed,
             )
         }
     }

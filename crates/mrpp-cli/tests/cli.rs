@@ -758,3 +758,97 @@ fn gen_map_then_scen_then_lacam_gives_a_valid_plan_and_bad_maps_are_refused() {
         assert_eq!(std::fs::read_to_string(&map).unwrap(), first);
     }
 }
+
+#[test]
+fn lacam_text_carries_lacam3_keys_with_the_bounds_of_info() {
+    let (map, scen) = (
+        data("movingai/random-32-32-20.map"),
+        data("movingai/random-32-32-20-random-1.scen"),
+    );
+    let out = tmp("lacam3-keys.txt");
+    let o = mrpp(&[
+        "solve",
+        "--map",
+        &map,
+        "--scen",
+        &scen,
+        "--agents",
+        "60",
+        "--planner",
+        "lacam",
+        "--seed",
+        "7",
+        "--format",
+        "lacam",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
+    let body = std::fs::read_to_string(&out).unwrap();
+    let keys: Vec<&str> = body
+        .lines()
+        .take_while(|l| !l.starts_with("starts="))
+        .map(|l| l.split('=').next().unwrap())
+        .collect();
+    assert_eq!(
+        keys,
+        [
+            "agents",
+            "map_file",
+            "solver",
+            "solved",
+            "soc",
+            "soc_lb",
+            "makespan",
+            "makespan_lb",
+            "sum_of_loss",
+            "sum_of_loss_lb",
+            "comp_time",
+            "seed"
+        ]
+    );
+    let value = |k: &str| -> u64 {
+        body.lines()
+            .find_map(|l| l.strip_prefix(&format!("{k}=")))
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    let o = mrpp(&["info", "--map", &map, "--scen", &scen, "--agents", "60"]);
+    let (info, _) = text(&o);
+    let lb = format!(
+        "sum_of_costs >= {} | makespan >= {}",
+        value("soc_lb"),
+        value("makespan_lb")
+    );
+    assert!(info.contains(&lb), "{info} lacks {lb}");
+    assert_eq!(value("sum_of_loss_lb"), value("soc_lb"));
+    assert_eq!(value("seed"), 7);
+    // Sum of loss recounted from the steps: every step but a stay on the goal.
+    let cells = |l: &str| -> Vec<String> {
+        l.split_once(':')
+            .unwrap()
+            .1
+            .split("),")
+            .filter(|c| !c.trim().is_empty())
+            .map(|c| c.trim().to_string())
+            .collect()
+    };
+    let steps: Vec<Vec<String>> = body
+        .lines()
+        .skip_while(|l| *l != "solution=")
+        .skip(1)
+        .map(cells)
+        .collect();
+    let goals = steps.last().unwrap();
+    let loss: usize = steps
+        .windows(2)
+        .map(|w| {
+            (0..60)
+                .filter(|&i| !(w[0][i] == goals[i] && w[1][i] == goals[i]))
+                .count()
+        })
+        .sum();
+    assert_eq!(value("sum_of_loss"), loss as u64);
+    assert!(value("soc_lb") <= value("sum_of_loss") && value("sum_of_loss") <= value("soc"));
+}

@@ -30,9 +30,11 @@ pub fn render_svg(map: &PolygonMap, p: &FormationProblem, plan: Option<&Formatio
     };
     let mut s = String::new();
     let (pw, ph) = (w * scale, h * scale);
+    // At least as wide as the legend, for tall narrow maps.
+    let sw = pw.max(600.0);
     let _ = writeln!(
         s,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{pw:.0}" height="{:.0}" viewBox="0 0 {pw:.0} {:.0}">"#,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{sw:.0}" height="{:.0}" viewBox="0 0 {sw:.0} {:.0}">"#,
         ph + LEGEND_PX,
         ph + LEGEND_PX,
     );
@@ -127,7 +129,7 @@ pub fn render_svg(map: &PolygonMap, p: &FormationProblem, plan: Option<&Formatio
     let y = ph + LEGEND_PX / 2.0;
     let _ = writeln!(
         s,
-        r##"<g font-family="sans-serif" font-size="11" fill="#333"><rect x="0" y="{ph:.2}" width="{pw:.2}" height="{LEGEND_PX}" fill="#fff"/><circle cx="13" cy="{y:.2}" r="5" fill="#000"/><text x="22" y="{:.2}">Q_ini / Q_goal</text><line x1="112" y1="{y:.2}" x2="134" y2="{y:.2}" stroke="{}" stroke-width="4"/><text x="140" y="{:.2}">a path (wider = more robots)</text><circle cx="318" cy="{y:.2}" r="6" fill="none" stroke="{}" stroke-width="2"/><text x="330" y="{:.2}">wait</text><line x1="372" y1="{y:.2}" x2="394" y2="{y:.2}" stroke="#bbb" stroke-width="3"/><text x="400" y="{:.2}">corridor (wider = more room)</text></g>"##,
+        r##"<g font-family="sans-serif" font-size="11" fill="#333"><rect x="0" y="{ph:.2}" width="{sw:.2}" height="{LEGEND_PX}" fill="#fff"/><circle cx="13" cy="{y:.2}" r="5" fill="#000"/><text x="22" y="{:.2}">Q_ini / Q_goal</text><line x1="112" y1="{y:.2}" x2="134" y2="{y:.2}" stroke="{}" stroke-width="4"/><text x="140" y="{:.2}">a path (wider = more robots)</text><circle cx="318" cy="{y:.2}" r="6" fill="none" stroke="{}" stroke-width="2"/><text x="330" y="{:.2}">wait</text><line x1="372" y1="{y:.2}" x2="394" y2="{y:.2}" stroke="#bbb" stroke-width="3"/><text x="400" y="{:.2}">corridor (wider = more room)</text></g>"##,
         y + 4.0,
         agent_colour(0),
         y + 4.0,

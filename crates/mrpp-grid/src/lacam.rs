@@ -26,7 +26,7 @@
 //! planner's notes (kept in the plan file).
 //!
 //! mrpp's extension (`-p refine=lns`, default; sum of loss only): LaCAM* alone improves large
-//! instances slowly, so between its search rounds (every 64 iterations) the best plan also goes
+//! instances slowly, so between its search rounds (every 8 iterations) the best plan also goes
 //! through 16 steps of large-neighbourhood search ([`crate::lns`], MAPF-LNS), which lowers its sum
 //! of costs; a better LaCAM* plan replaces the LNS plan. The returned plan is the one with the
 //! lower sum of costs, and `final_cost` is its sum of loss. lacam3 refines its plans the same way

@@ -2,8 +2,9 @@
 //! P. J. Stuckey, S. Koenig, "Anytime multi-agent path finding via large neighborhood search",
 //! IJCAI 2021): each step takes up to `k` agents' paths out, re-plans those agents one at a time
 //! in a random order with safe-interval path planning ([`sipp`]) against everyone else's paths,
-//! and keeps the new paths when their summed cost is not larger (else restores the old ones). LaCAM*'s anytime phase runs
-//! it between its own search rounds (the role of the refiners of lacam3, Okumura, AAMAS 2024).
+//! and keeps the new paths when their summed cost is not larger (else restores the old ones).
+//! LaCAM*'s anytime phase runs it between its own search rounds (the role of the refiners of
+//! lacam3, Okumura, AAMAS 2024).
 //!
 //! Neighbourhoods alternate between *random* (uniform agents) and *agent-based* (the most delayed
 //! agent, cost minus distance, among a random sample, with the agents whose paths visit the cells

@@ -34,10 +34,17 @@ use mrpp_core::error::{Error, Result};
 use mrpp_core::mapf::graph::VertexId;
 use mrpp_core::mapf::instance::Instance;
 use mrpp_core::mapf::plan::{Metrics, Plan, position};
+use mrpp_core::mapf::search::distance::lower_bounds;
 
-/// Writes the LaCAM text result. `outcome` is `None` when nothing was solved: the text then says
-/// `solved=0`, `soc=0`, `makespan=0` (as LaCAM does) and has an empty `solution=` section.
+/// Writes the LaCAM text result with lacam3's keys (Okumura, "Engineering LaCAM*", AAMAS 2024,
+/// public code Kei18/lacam3): `agents`, `map_file`, `solver`, `solved`, `soc`, `soc_lb`,
+/// `makespan`, `makespan_lb`, `sum_of_loss`, `sum_of_loss_lb`, `comp_time`, `seed`, `starts`,
+/// `goals`, `solution`. `outcome` is `None` when nothing was solved: the text then says
+/// `solved=0`, the costs are 0 (as LaCAM does) and the `solution=` section is empty.
 ///
+/// The lower bounds are `mrpp info`'s: the sum and the maximum of the agents' start–goal distances
+/// (`sum_of_loss_lb` = `soc_lb`; 0 when an agent cannot reach its goal). `sum_of_loss` counts,
+/// per agent and step, every step except staying on its goal (what LaCAM* minimises).
 /// `comp_time` is written in whole milliseconds (rounded; negative or non-finite becomes 0),
 /// because LaCAM writes an integer and some readers parse it as one. The solution runs from step 0
 /// to `metrics.makespan`, extended if some path still moves later (possible only for plans under
@@ -49,6 +56,7 @@ pub fn write_lacam(
     inst: &Instance,
     outcome: Option<(&Plan, Metrics)>,
     comp_time_ms: f64,
+    seed: u64,
 ) -> String {
     let n = inst.num_agents();
     let comp_time = if comp_time_ms.is_finite() && comp_time_ms > 0.0 {
@@ -57,14 +65,22 @@ pub fn write_lacam(
         0
     };
     let (soc, makespan) = outcome.map_or((0, 0), |(_, m)| (m.sum_of_costs, m.makespan));
+    let (soc_lb, makespan_lb) =
+        lower_bounds(map.graph(), &inst.starts, &inst.goals).unwrap_or((0, 0));
+    let loss = outcome.map_or(0, |(plan, m)| sum_of_loss(plan, &inst.goals, m.makespan));
     let mut s = String::new();
     let _ = writeln!(s, "agents={n}");
     let _ = writeln!(s, "map_file={}", one_line(map_file));
     let _ = writeln!(s, "solver={}", one_line(solver));
     let _ = writeln!(s, "solved={}", u8::from(outcome.is_some()));
     let _ = writeln!(s, "soc={soc}");
+    let _ = writeln!(s, "soc_lb={soc_lb}");
     let _ = writeln!(s, "makespan={makespan}");
+    let _ = writeln!(s, "makespan_lb={makespan_lb}");
+    let _ = writeln!(s, "sum_of_loss={loss}");
+    let _ = writeln!(s, "sum_of_loss_lb={soc_lb}");
     let _ = writeln!(s, "comp_time={comp_time}");
+    let _ = writeln!(s, "seed={seed}");
     let cells = |s: &mut String, vs: &mut dyn Iterator<Item = VertexId>| {
         for v in vs {
             let (x, y) = map.cell(v);
@@ -99,6 +115,20 @@ pub fn write_lacam(
         }
     }
     s
+}
+
+/// Sum of loss of `plan` over steps `0..makespan`: per agent, the steps that are not a stay on
+/// its goal (a path that has ended stays on its last vertex).
+fn sum_of_loss(plan: &Plan, goals: &[VertexId], makespan: u64) -> u64 {
+    plan.paths
+        .iter()
+        .zip(goals)
+        .map(|(p, &g)| {
+            (0..makespan as usize)
+                .filter(|&t| !(position(p, t) == g && position(p, t + 1) == g))
+                .count() as u64
+        })
+        .sum()
 }
 
 /// Names and solver names go on one `key=value` line; a line break in them would end the line.
@@ -379,10 +409,11 @@ mod tests {
     #[test]
     fn exact_text_of_a_tiny_plan() {
         let (m, inst, plan, metrics) = tiny();
-        let text = write_lacam(&m, "m.map", "pibt", &inst, Some((&plan, metrics)), 3.6);
+        let text = write_lacam(&m, "m.map", "pibt", &inst, Some((&plan, metrics)), 3.6, 9);
         assert_eq!(
             text,
-            "agents=2\nmap_file=m.map\nsolver=pibt\nsolved=1\nsoc=4\nmakespan=2\ncomp_time=4\n\
+            "agents=2\nmap_file=m.map\nsolver=pibt\nsolved=1\nsoc=4\nsoc_lb=3\nmakespan=2\n\
+             makespan_lb=2\nsum_of_loss=4\nsum_of_loss_lb=3\ncomp_time=4\nseed=9\n\
              starts=(0,0),(2,2),\ngoals=(2,0),(2,1),\nsolution=\n\
              0:(0,0),(2,2),\n1:(1,0),(2,2),\n2:(2,0),(2,1),\n"
         );
@@ -405,7 +436,7 @@ mod tests {
         let metrics = MapfProblem::on(m.graph(), &inst, Rules::default())
             .validate(&plan)
             .unwrap();
-        let text = write_lacam(&m, "m.map", "x", &inst, Some((&plan, metrics)), 0.0);
+        let text = write_lacam(&m, "m.map", "x", &inst, Some((&plan, metrics)), 0.0, 0);
         let (inst2, mut plan2) = parse_lacam(&text, Path::new("r.txt"), &m).unwrap();
         assert_eq!(inst2, inst);
         assert!(
@@ -425,9 +456,12 @@ mod tests {
     #[test]
     fn unsolved_result_holds_no_plan() {
         let (m, inst, _, _) = tiny();
-        let text = write_lacam(&m, "m.map", "x", &inst, None, f64::NAN);
+        let text = write_lacam(&m, "m.map", "x", &inst, None, f64::NAN, 0);
         assert!(
-            text.contains("solved=0\nsoc=0\nmakespan=0\ncomp_time=0\n"),
+            text.contains(
+                "solved=0\nsoc=0\nsoc_lb=3\nmakespan=0\nmakespan_lb=2\nsum_of_loss=0\n\
+                 sum_of_loss_lb=3\ncomp_time=0\nseed=0\n"
+            ),
             "{text}"
         );
         assert!(text.ends_with("solution=\n"), "{text}");

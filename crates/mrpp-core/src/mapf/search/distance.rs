@@ -57,8 +57,10 @@ pub fn goal_distance_tables(g: &Graph, goals: &[VertexId]) -> Vec<Vec<u32>> {
 ///   differ by at most 1, so the code of a neighbour tells its distance from a known one; a table
 ///   remembers its last answer (its *anchor*) and finds a new vertex's distance through a short
 ///   walk to the anchor (within 3 steps), or else by walking down the codes to the goal, one
-///   step per unit of distance. Planners query the neighbourhood of an agent's last position,
-///   so most answers are a few steps from the anchor.
+///   step per unit of distance. PIBT and LaCAM query the neighbourhood of an agent's last
+///   position, so most answers are a few steps from the anchor; a search that jumps around (the
+///   SIPP of LaCAM*'s refinement) pays the walk to the goal on most queries, so anytime
+///   refinement on instances this large is slow.
 pub struct GoalDistances<'g> {
     graph: &'g Graph,
     goals: Vec<VertexId>,
@@ -320,7 +322,8 @@ impl<'g> GoalDistances<'g> {
     }
 
     /// Grows every agent's table until it reaches `at[i]` (typically the starts), in parallel.
-    /// When agents × vertices is at most 2^26, every table is completed instead, and later
+    /// When the tables are not packed and agents × vertices is at most 2^26, every table is
+    /// completed instead, and later
     /// queries read them without locking.
     pub fn warm_up(&mut self, at: &[VertexId]) {
         use rayon::prelude::*;

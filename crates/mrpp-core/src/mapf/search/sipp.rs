@@ -11,9 +11,9 @@
 //! lacam3's refiner uses SIPP for the same reason (Okumura, "Engineering LaCAM*", AAMAS 2024).
 //!
 //! Swaps are edge constraints, which intervals do not capture: a move `v -> w` arriving at `a` is
-//! refused when a reserved path moves `w -> v` at `a`, and the departure is then delayed by one
-//! step (while the agent can still wait on `v`). The first arrival in each interval of `w` is
-//! kept, so the result has the least arrival time, the same cost as [`space_time_astar`]'s full
+//! refused when a reserved path moves `w -> v` at `a`. That path then holds `v` at `a`, so `a - 1`
+//! is the last step of the agent's interval on `v` and no later departure exists: the move is
+//! lost from this interval. The first arrival in each interval of `w` is kept, so the result has the least arrival time, the same cost as [`space_time_astar`]'s full
 //! mode (a property test checks both on random tables).
 //!
 //! [`space_time_astar`]: crate::mapf::search::spacetime::space_time_astar
@@ -96,9 +96,9 @@ pub fn sipp(q: &Query, res: &Reservations) -> Search {
                     break;
                 }
                 if res.arrives(v, a, w) {
-                    // A reserved path moves w -> v at `a`: leave one step later.
-                    a += 1;
-                    continue;
+                    // A reserved path moves w -> v at `a`, so `v` is taken at `a` and this is
+                    // the last arrival the interval of `v` allows: no move to `w` from it.
+                    break;
                 }
                 let key = (w, res.interval_start(w, a));
                 let e = best.entry(key).or_insert((u32::MAX, false));
@@ -195,8 +195,19 @@ mod tests {
     }
 
     /// A random connected graph, a few reserved paths (random walks, some parked) that do not
-    /// collide with each other, and a query whose start is free at 0.
-    fn case() -> impl Strategy<Value = (Graph, Vec<(Vec<VertexId>, bool)>, VertexId, VertexId)> {
+    /// collide with each other, and a query: start (free at the start time when one of 20 draws
+    /// is), goal, start time in 0..4 and time limit in 0..30.
+    #[allow(clippy::type_complexity)]
+    fn case() -> impl Strategy<
+        Value = (
+            Graph,
+            Vec<(Vec<VertexId>, bool)>,
+            VertexId,
+            VertexId,
+            u32,
+            u32,
+        ),
+    > {
         (4usize..12, any::<u64>()).prop_map(|(n, seed)| {
             let mut x = seed | 1;
             let mut next = move |m: usize| {
@@ -238,8 +249,17 @@ mod tests {
                     paths.push((p, park));
                 }
             }
-            let (s, goal) = (next(n) as VertexId, next(n) as VertexId);
-            (g, paths, s, goal)
+            let start_time = next(4) as u32;
+            let max_time = next(30) as u32;
+            let mut s = next(n) as VertexId;
+            for _ in 0..20 {
+                if res.vertex_free(s, start_time) {
+                    break;
+                }
+                s = next(n) as VertexId;
+            }
+            let goal = next(n) as VertexId;
+            (g, paths, s, goal, start_time, max_time)
         })
     }
 
@@ -247,14 +267,15 @@ mod tests {
         /// SIPP finds a path exactly when space-time A* does, with the same arrival time, and
         /// its path obeys every reservation.
         #[test]
-        fn sipp_matches_space_time_astar((g, paths, s, goal) in case()) {
+        fn sipp_matches_space_time_astar((g, paths, s, goal, t0, max_time) in case()) {
             let mut res = Reservations::new(g.num_vertices());
             for (p, park) in &paths {
                 res.reserve_path(p, 0, *park);
             }
             let d = bfs_distances(&g, goal);
             let h = |v: VertexId| d[v as usize];
-            let q = query(&g, s, goal, &h, 30);
+            let mut q = query(&g, s, goal, &h, max_time);
+            q.start_time = t0;
             let a = space_time_astar(&q, &res);
             let b = sipp(&q, &res);
             match (&a, &b) {
@@ -264,9 +285,11 @@ mod tests {
                     prop_assert_eq!(*pb.last().unwrap(), goal);
                     for (t, w) in pb.windows(2).enumerate() {
                         prop_assert!(w[0] == w[1] || g.neighbors(w[0]).contains(&w[1]));
-                        prop_assert!(res.move_free(w[0], w[1], t as u32 + 1), "{pb:?} at {t}");
+                        let t = t0 + t as u32 + 1;
+                        prop_assert!(res.move_free(w[0], w[1], t), "{pb:?} at {t}");
                     }
-                    prop_assert!(res.free_from(goal, pb.len() as u32 - 1));
+                    let arrival = t0 + pb.len() as u32 - 1;
+                    prop_assert!(res.free_from(goal, arrival) && arrival <= max_time.max(t0));
                 }
                 (Search::NotFound, Search::NotFound) => {}
                 _ => prop_assert!(false, "A* {a:?}, SIPP {b:?}"),
