@@ -283,3 +283,58 @@ fn continuous(
     );
     Ok(0)
 }
+
+/// `mrpp convert`: `map` (any grid format) as a MovingAI `.map` at `out_map`, and the agents of
+/// `scen` (first `agents`) as a `.scen` at `out_scen` naming that map. Neither output may be an
+/// input; both are written whole or not at all.
+pub(crate) fn convert(
+    map: &std::path::Path,
+    scen: Option<&std::path::Path>,
+    agents: Option<usize>,
+    out_map: &std::path::Path,
+    out_scen: Option<&std::path::Path>,
+) -> Result<u8, Fail> {
+    let same = |a: &std::path::Path, b: &std::path::Path| {
+        a == b || matches!((a.canonicalize(), b.canonicalize()), (Ok(x), Ok(y)) if x == y)
+    };
+    let inputs: Vec<&std::path::Path> = std::iter::once(map).chain(scen).collect();
+    for out in std::iter::once(out_map).chain(out_scen) {
+        if let Some(i) = inputs.iter().find(|i| same(i, out)) {
+            return Err(Fail(format!(
+                "convert: {} is an input; choose another output file",
+                i.display()
+            )));
+        }
+    }
+    if out_scen.is_some() != scen.is_some() {
+        return Err(Fail(
+            "convert: --out-scen and --scen go together (the agents to write and where)".into(),
+        ));
+    }
+    let grid = mrpp_grid::GridMap::load(map)?;
+    let scen_text = match (scen, out_scen) {
+        (Some(scen), Some(_)) => {
+            let inst = mrpp_grid::scen::load_agents(scen, &grid, agents)?;
+            Some(mrpp_grid::scen::scen_text(
+                &grid,
+                &file_name(out_map),
+                &inst,
+            ))
+        }
+        _ => None,
+    };
+    write_atomic(out_map, grid.movingai_text())?;
+    if let (Some(text), Some(out)) = (scen_text, out_scen) {
+        write_atomic(out, text)?;
+    }
+    println!(
+        "mrpp {} | convert | map {} {}x{} -> {}{}",
+        env!("CARGO_PKG_VERSION"),
+        file_name(map),
+        grid.width(),
+        grid.height(),
+        out_map.display(),
+        out_scen.map_or(String::new(), |o| format!(" | agents -> {}", o.display()))
+    );
+    Ok(0)
+}

@@ -71,7 +71,26 @@ enum Command {
     /// Benchmark sweeps: `bench run` (TOML config or flags, `--shard i/N`), `bench merge`.
     #[command(subcommand)]
     Bench(bench::Bench),
-    /// Problem files from seeds: polygon worlds, formation files.
+    /// Write a grid map (MovingAI or the H* paper's text format) as a MovingAI `.map`, and with
+    /// --scen its agents as a MovingAI `.scen`, so any MovingAI tool (e.g. the MAPF visualizer)
+    /// reads them. Example: `mrpp convert --map data/hstar-paper/scenario3/scenery_warehouse.txt
+    /// --scen data/hstar-paper/scenario3/30warehouse --out-map warehouse.map --out-scen warehouse-30.scen`.
+    Convert {
+        #[arg(long)]
+        map: PathBuf,
+        /// Agents to write as `.scen` (MovingAI `.scen` or the H* paper's robot file).
+        #[arg(long)]
+        scen: Option<PathBuf>,
+        /// Only the first N agents.
+        #[arg(long)]
+        agents: Option<usize>,
+        #[arg(long)]
+        out_map: PathBuf,
+        /// Where the `.scen` goes (needs --scen).
+        #[arg(long)]
+        out_scen: Option<PathBuf>,
+    },
+    /// Problem files from seeds: random grid maps and scenarios, polygon worlds, formation files.
     #[command(subcommand)]
     Gen(gen_cmd::Gen),
     /// Single-lane tree problems: generate, solve (PSW or GP), run a GP program, validate.
@@ -217,6 +236,13 @@ fn run(command: Command) -> Result<u8, Fail> {
         Command::Bench(bench::Bench::Merge { out, parts }) => merge(out, parts),
         Command::Trees(t) => tree_family::run(t),
         Command::Gen(g) => gen_cmd::run(g),
+        Command::Convert {
+            map,
+            scen,
+            agents,
+            out_map,
+            out_scen,
+        } => gen_cmd::convert(&map, scen.as_deref(), agents, &out_map, out_scen.as_deref()),
     }
 }
 

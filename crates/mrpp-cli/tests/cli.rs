@@ -852,3 +852,145 @@ fn lacam_text_carries_lacam3_keys_with_the_bounds_of_info() {
     assert_eq!(value("sum_of_loss"), loss as u64);
     assert!(value("soc_lb") <= value("sum_of_loss") && value("sum_of_loss") <= value("soc"));
 }
+
+#[test]
+fn convert_writes_every_hstar_map_as_movingai_that_reads_back_the_same() {
+    let pairs = [
+        ("scenario1/scenery.txt", "scenario1/15coordinates.txt"),
+        (
+            "scenario2/scenery_4rooms.txt",
+            "scenario2/6robots-per-room.txt",
+        ),
+        (
+            "scenario2/scenery_4rooms_B.txt",
+            "scenario2/3robots-per-room.txt",
+        ),
+        ("scenario3/scenery_warehouse.txt", "scenario3/30warehouse"),
+    ];
+    // `mrpp info` without its first field (the map's name).
+    let info = |map: &str, scen: &str| {
+        let o = mrpp(&["info", "--map", map, "--scen", scen]);
+        assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
+        let (out, _) = text(&o);
+        out.split_once(' ')
+            .unwrap()
+            .1
+            .split_once(' ')
+            .unwrap()
+            .1
+            .to_string()
+    };
+    for (k, (map, agents)) in pairs.iter().enumerate() {
+        let (map, agents) = (
+            data(&format!("hstar-paper/{map}")),
+            data(&format!("hstar-paper/{agents}")),
+        );
+        let (out_map, out_scen) = (
+            tmp(&format!("conv-{k}.map")),
+            tmp(&format!("conv-{k}.scen")),
+        );
+        let (om, os) = (out_map.to_str().unwrap(), out_scen.to_str().unwrap());
+        let o = mrpp(&[
+            "convert",
+            "--map",
+            &map,
+            "--scen",
+            &agents,
+            "--out-map",
+            om,
+            "--out-scen",
+            os,
+        ]);
+        assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
+        // Read back by mrpp: the same cells, agents and bounds.
+        assert_eq!(info(om, os), info(&map, &agents), "{map}");
+        // Read by the independent MovingAI checker.
+        let o = Command::new("python3")
+            .arg(root().join("tools/check/movingai.py"))
+            .args([om, os])
+            .output()
+            .unwrap();
+        let (out, err) = text(&o);
+        assert_eq!(o.status.code(), Some(0), "{out}{err}");
+        assert!(out.contains("\"valid\": true"), "{out}");
+        // A plan made on the paper's file is valid on the converted one.
+        let plan = tmp(&format!("conv-{k}.json"));
+        let o = mrpp(&[
+            "solve",
+            "--map",
+            &map,
+            "--scen",
+            &agents,
+            "--planner",
+            "lacam",
+            "--out",
+            plan.to_str().unwrap(),
+        ]);
+        assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
+        let o = mrpp(&["validate", "--map", om, "--plan", plan.to_str().unwrap()]);
+        assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
+    }
+    // Never over an input.
+    let map = data("hstar-paper/scenario1/scenery.txt");
+    let before = std::fs::read(&map).unwrap();
+    let o = mrpp(&["convert", "--map", &map, "--out-map", &map]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(text(&o).1.contains("is an input"));
+    assert_eq!(std::fs::read(&map).unwrap(), before);
+}
+
+#[test]
+fn the_movingai_checker_refuses_broken_files() {
+    let check = |map: &str, scen: Option<&str>| {
+        let m = tmp("chk.map");
+        std::fs::write(&m, map).unwrap();
+        let mut args = vec![m.to_str().unwrap().to_string()];
+        if let Some(s) = scen {
+            let p = tmp("chk.scen");
+            std::fs::write(&p, s).unwrap();
+            args.push(p.to_str().unwrap().to_string());
+        }
+        let o = Command::new("python3")
+            .arg(root().join("tools/check/movingai.py"))
+            .args(&args)
+            .output()
+            .unwrap();
+        (o.status.code(), text(&o).0)
+    };
+    let good = "type octile\nheight 2\nwidth 3\nmap\n..@\n.T.\n";
+    assert_eq!(check(good, None).0, Some(0));
+    let scen = |line: &str| format!("version 1\n{line}\n");
+    assert_eq!(
+        check(good, Some(&scen("0\tm.map\t3\t2\t0\t0\t2\t1\t3"))).0,
+        Some(0)
+    );
+    for (map, s, why) in [
+        (
+            "type octile\nheight 2\nwidth 3\nmap\n..@\n.T\n",
+            None,
+            "row of 2",
+        ),
+        (
+            "type octile\nheight 2\nwidth 3\nmap\n..@\n.X.\n",
+            None,
+            "terrain",
+        ),
+        ("type octile\nwidth 3\nmap\n..@\n...\n", None, "height"),
+        (good, Some(scen("0\tm.map\t3\t2\t1\t1\t2\t1\t3")), "on `T`"),
+        (
+            good,
+            Some(scen("0\tm.map\t3\t3\t0\t0\t2\t1\t3")),
+            "map size",
+        ),
+        (good, Some(scen("0 m.map 3 2 0 0 2 1 3")), "fields"),
+        (
+            good,
+            Some("0\tm.map\t3\t2\t0\t0\t2\t1\t3\n".into()),
+            "version",
+        ),
+    ] {
+        let (code, out) = check(map, s.as_deref());
+        assert_eq!(code, Some(1), "{why}: {out}");
+        assert!(out.contains(why), "{why}: {out}");
+    }
+}

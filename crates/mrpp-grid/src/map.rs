@@ -100,6 +100,24 @@ impl GridMap {
         }
     }
 
+    /// The map as MovingAI text (`type octile`, `height`, `width`, `map`, then rows of `.` for
+    /// free cells and `@` for walls), which [`GridMap::parse`] reads back to the same map and any
+    /// MovingAI tool reads (`mrpp convert`).
+    pub fn movingai_text(&self) -> String {
+        let mut s = format!(
+            "type octile\nheight {}\nwidth {}\nmap\n",
+            self.height, self.width
+        );
+        s.reserve(((self.width + 1) * self.height) as usize);
+        for y in 0..self.height {
+            for x in 0..self.width {
+                s.push(if self.is_free(x, y) { '.' } else { '@' });
+            }
+            s.push('\n');
+        }
+        s
+    }
+
     /// Reads a map file in either format.
     pub fn load(path: &Path) -> Result<Self> {
         let text = read_file(path)?;
@@ -329,6 +347,22 @@ mod tests {
             }
             assert_eq!(m.graph().num_vertices(), with.0.graph().num_vertices());
         }
+    }
+
+    #[test]
+    fn movingai_text_reads_back_to_the_same_map() {
+        let (a, _) = GridMap::parse("####\n#  #\n# ##\n", p()).unwrap();
+        let text = a.movingai_text();
+        assert_eq!(
+            text,
+            "type octile\nheight 3\nwidth 4\nmap\n@@@@\n@..@\n@.@@\n"
+        );
+        let (b, f) = GridMap::parse(&text, p()).unwrap();
+        assert_eq!(f, MapFormat::MovingAi);
+        assert_eq!(
+            (b.width(), b.height(), b.free.clone()),
+            (a.width(), a.height(), a.free)
+        );
     }
 
     #[test]
