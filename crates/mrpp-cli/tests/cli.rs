@@ -35,6 +35,25 @@ fn tmp(name: &str) -> PathBuf {
     dir.join(name)
 }
 
+/// Plans `scen` on `map` with LaCAM into `plan`, then validates the plan on `check_map`.
+fn solve_then_validate(map: &str, scen: &str, plan: &Path, check_map: &str) {
+    let p = plan.to_str().unwrap();
+    let o = mrpp(&[
+        "solve",
+        "--map",
+        map,
+        "--scen",
+        scen,
+        "--planner",
+        "lacam",
+        "--out",
+        p,
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
+    let o = mrpp(&["validate", "--map", check_map, "--plan", p]);
+    assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
+}
+
 /// Runs the independent checker; returns (valid, parsed JSON line).
 fn check(map: &str, plan: &Path) -> (bool, serde_json::Value) {
     let o = Command::new("python3")
@@ -717,20 +736,7 @@ fn gen_map_then_scen_then_lacam_gives_a_valid_plan_and_bad_maps_are_refused() {
         scen.to_str().unwrap(),
     ]);
     assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
-    let o = mrpp(&[
-        "solve",
-        "--map",
-        m,
-        "--scen",
-        scen.to_str().unwrap(),
-        "--planner",
-        "lacam",
-        "--out",
-        plan.to_str().unwrap(),
-    ]);
-    assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
-    let o = mrpp(&["validate", "--map", m, "--plan", plan.to_str().unwrap()]);
-    assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
+    solve_then_validate(m, scen.to_str().unwrap(), &plan, m);
     // Absurd parameters: one line, exit 1, the existing file untouched.
     for (w, h, p) in [
         ("0", "10", "0.1"),
@@ -915,20 +921,7 @@ fn convert_writes_every_hstar_map_as_movingai_that_reads_back_the_same() {
         assert!(out.contains("\"valid\": true"), "{out}");
         // A plan made on the paper's file is valid on the converted one.
         let plan = tmp(&format!("conv-{k}.json"));
-        let o = mrpp(&[
-            "solve",
-            "--map",
-            &map,
-            "--scen",
-            &agents,
-            "--planner",
-            "lacam",
-            "--out",
-            plan.to_str().unwrap(),
-        ]);
-        assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
-        let o = mrpp(&["validate", "--map", om, "--plan", plan.to_str().unwrap()]);
-        assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
+        solve_then_validate(&map, &agents, &plan, om);
     }
     // Never over an input.
     let map = data("hstar-paper/scenario1/scenery.txt");

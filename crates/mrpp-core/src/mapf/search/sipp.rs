@@ -148,30 +148,10 @@ fn unwind(nodes: &[Node], idx: u32) -> Vec<VertexId> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::contract::Deadline;
     use crate::mapf::graph::Graph;
     use crate::mapf::search::distance::bfs_distances;
-    use crate::mapf::search::spacetime::space_time_astar;
+    use crate::mapf::search::spacetime::{query, space_time_astar};
     use proptest::prelude::*;
-
-    fn query<'a>(
-        g: &'a Graph,
-        start: VertexId,
-        goal: VertexId,
-        h: &'a dyn Fn(VertexId) -> u32,
-        max_time: u32,
-    ) -> Query<'a> {
-        Query {
-            graph: g,
-            start,
-            goal,
-            start_time: 0,
-            h,
-            max_time,
-            window: None,
-            deadline: Deadline::none(),
-        }
-    }
 
     #[test]
     fn waits_for_a_reserved_centre_and_refuses_a_swap() {

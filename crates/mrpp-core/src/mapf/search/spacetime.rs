@@ -352,28 +352,31 @@ pub fn space_time_astar(q: &Query, res: &Reservations) -> Search {
     Search::NotFound
 }
 
+/// A full-mode query from `start` at time 0 (the tests of this module and of SIPP).
+#[cfg(test)]
+pub(crate) fn query<'a>(
+    g: &'a Graph,
+    start: VertexId,
+    goal: VertexId,
+    h: &'a dyn Fn(VertexId) -> u32,
+    max_time: u32,
+) -> Query<'a> {
+    Query {
+        graph: g,
+        start,
+        goal,
+        start_time: 0,
+        h,
+        max_time,
+        window: None,
+        deadline: Deadline::none(),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::mapf::search::distance::bfs_distances;
-
-    fn query<'a>(
-        g: &'a Graph,
-        start: VertexId,
-        goal: VertexId,
-        h: &'a dyn Fn(VertexId) -> u32,
-    ) -> Query<'a> {
-        Query {
-            graph: g,
-            start,
-            goal,
-            start_time: 0,
-            h,
-            max_time: 50,
-            window: None,
-            deadline: Deadline::none(),
-        }
-    }
 
     #[test]
     fn waits_for_a_reserved_centre() {
@@ -384,7 +387,7 @@ mod tests {
         let d = bfs_distances(&g, 3);
         let h = |v: VertexId| d[v as usize];
         assert_eq!(
-            space_time_astar(&query(&g, 4, 3, &h), &res),
+            space_time_astar(&query(&g, 4, 3, &h, 50), &res),
             Search::Found(vec![4, 4, 0, 3])
         );
     }
@@ -398,7 +401,7 @@ mod tests {
         let d = bfs_distances(&g, 2);
         let h = |v: VertexId| d[v as usize];
         assert_eq!(
-            space_time_astar(&query(&g, 0, 2, &h), &res),
+            space_time_astar(&query(&g, 0, 2, &h, 50), &res),
             Search::NotFound
         );
     }
@@ -411,7 +414,7 @@ mod tests {
         res.reserve_path(&[2, 2, 2, 1, 2], 0, false);
         let d = bfs_distances(&g, 1);
         let h = |v: VertexId| d[v as usize];
-        match space_time_astar(&query(&g, 0, 1, &h), &res) {
+        match space_time_astar(&query(&g, 0, 1, &h, 50), &res) {
             Search::Found(p) => assert_eq!(p.len(), 5),
             other => panic!("{other:?}"),
         }
@@ -429,7 +432,7 @@ mod tests {
         let d = bfs_distances(&g, 2);
         let h = |v: VertexId| d[v as usize];
         // The goal is free from t = 7 on.
-        match space_time_astar(&query(&g, 0, 2, &h), &res) {
+        match space_time_astar(&query(&g, 0, 2, &h, 50), &res) {
             Search::Found(p) => assert_eq!(p.len(), 8),
             other => panic!("{other:?}"),
         }
@@ -441,7 +444,7 @@ mod tests {
         let res = Reservations::new(6);
         let d = bfs_distances(&g, 5);
         let h = |v: VertexId| d[v as usize];
-        let mut q = query(&g, 0, 5, &h);
+        let mut q = query(&g, 0, 5, &h, 50);
         q.window = Some(2);
         assert_eq!(space_time_astar(&q, &res), Search::Found(vec![0, 1, 2]));
     }
