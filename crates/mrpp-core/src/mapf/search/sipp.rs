@@ -153,27 +153,6 @@ mod tests {
     use crate::mapf::search::spacetime::{query, space_time_astar};
     use proptest::prelude::*;
 
-    #[test]
-    fn waits_for_a_reserved_centre_and_refuses_a_swap() {
-        // Plus: centre 0, W=1 E=2 N=3 S=4. a moves W->E; b from S to N waits one step.
-        let g = Graph::from_edges(5, &[(0, 1), (0, 2), (0, 3), (0, 4)]);
-        let mut res = Reservations::new(5);
-        res.reserve_path(&[1, 0, 2], 0, true);
-        let d = bfs_distances(&g, 3);
-        let h = |v: VertexId| d[v as usize];
-        assert_eq!(
-            sipp(&query(&g, 4, 3, &h, 50), &res),
-            Search::Found(vec![4, 4, 0, 3])
-        );
-        // Path 0-1-2: a moves 2 -> 1 -> 0 and parks; b at 0 can never reach 2.
-        let g = Graph::from_edges(3, &[(0, 1), (1, 2)]);
-        let mut res = Reservations::new(3);
-        res.reserve_path(&[2, 1, 0], 0, true);
-        let d = bfs_distances(&g, 2);
-        let h = |v: VertexId| d[v as usize];
-        assert_eq!(sipp(&query(&g, 0, 2, &h, 50), &res), Search::NotFound);
-    }
-
     /// A random connected graph, a few reserved paths (random walks, some parked) that do not
     /// collide with each other, and a query: start (free at the start time when one of 20 draws
     /// is), goal, start time in 0..4 and time limit in 0..30.

@@ -377,33 +377,32 @@ pub(crate) fn query<'a>(
 mod tests {
     use super::*;
     use crate::mapf::search::distance::bfs_distances;
+    use crate::mapf::search::sipp::sipp;
 
     #[test]
-    fn waits_for_a_reserved_centre() {
+    fn waits_for_a_reserved_centre_in_both_searches() {
         // Plus: centre 0, W=1 E=2 N=3 S=4. Agent a W->E reserved; b S->N must wait one step.
         let g = Graph::from_edges(5, &[(0, 1), (0, 2), (0, 3), (0, 4)]);
         let mut res = Reservations::new(5);
         res.reserve_path(&[1, 0, 2], 0, true);
         let d = bfs_distances(&g, 3);
         let h = |v: VertexId| d[v as usize];
-        assert_eq!(
-            space_time_astar(&query(&g, 4, 3, &h, 50), &res),
-            Search::Found(vec![4, 4, 0, 3])
-        );
+        let q = query(&g, 4, 3, &h, 50);
+        assert_eq!(space_time_astar(&q, &res), Search::Found(vec![4, 4, 0, 3]));
+        assert_eq!(sipp(&q, &res), Search::Found(vec![4, 4, 0, 3]));
     }
 
     #[test]
-    fn swap_is_refused_and_parked_goal_blocks() {
+    fn swap_is_refused_and_parked_goal_blocks_in_both_searches() {
         // Path 0-1-2. a moves 2->1->0 and parks; b at 0 wants 2: it can never get past.
         let g = Graph::from_edges(3, &[(0, 1), (1, 2)]);
         let mut res = Reservations::new(3);
         res.reserve_path(&[2, 1, 0], 0, true);
         let d = bfs_distances(&g, 2);
         let h = |v: VertexId| d[v as usize];
-        assert_eq!(
-            space_time_astar(&query(&g, 0, 2, &h, 50), &res),
-            Search::NotFound
-        );
+        let q = query(&g, 0, 2, &h, 50);
+        assert_eq!(space_time_astar(&q, &res), Search::NotFound);
+        assert_eq!(sipp(&q, &res), Search::NotFound);
     }
 
     #[test]
