@@ -170,6 +170,14 @@ impl LazyBfs {
                     }
                 }
             }
+            Store::Narrow(d) if du + 1 < u32::from(u16::MAX) => {
+                for &w in g.neighbors(u) {
+                    if d[w as usize] == u16::MAX {
+                        d[w as usize] = (du + 1) as u16;
+                        self.queue.push_back(w);
+                    }
+                }
+            }
             dist => {
                 for &w in g.neighbors(u) {
                     if !dist.seen(w as usize) {
@@ -210,6 +218,12 @@ impl LazyBfs {
             self.queue.push_back(goal);
             (self.front_d, self.front_left) = (0, 1);
             self.anchor = (goal, 0);
+        }
+        // The common case: a 2-byte table that has reached `v`.
+        if let Store::Narrow(d) = &self.dist
+            && d[v as usize] != u16::MAX
+        {
+            return u32::from(d[v as usize]);
         }
         while !self.dist.seen(v as usize) {
             if !self.step(g) {
