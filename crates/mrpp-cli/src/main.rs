@@ -90,6 +90,12 @@ enum Command {
         #[arg(long)]
         out_scen: Option<PathBuf>,
     },
+    /// Print a shell completion script. Example (bash):
+    /// `mrpp completions bash > ~/.local/share/bash-completion/completions/mrpp`.
+    Completions {
+        /// bash, zsh, fish, elvish or powershell.
+        shell: clap_complete::Shell,
+    },
     /// Problem files from seeds: random grid maps and scenarios, polygon worlds, formation files.
     #[command(subcommand)]
     Gen(gen_cmd::Gen),
@@ -236,6 +242,15 @@ fn run(command: Command) -> Result<u8, Fail> {
         Command::Bench(bench::Bench::Merge { out, parts }) => merge(out, parts),
         Command::Trees(t) => tree_family::run(t),
         Command::Gen(g) => gen_cmd::run(g),
+        Command::Completions { shell } => {
+            use clap::CommandFactory as _;
+            use std::io::Write as _;
+            // Written whole from a buffer: a closed pipe (`| head`) ends the output, not in a panic.
+            let mut script = Vec::new();
+            clap_complete::generate(shell, &mut Cli::command(), "mrpp", &mut script);
+            let _ = std::io::stdout().write_all(&script);
+            Ok(0)
+        }
         Command::Convert {
             map,
             scen,

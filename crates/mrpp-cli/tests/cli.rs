@@ -987,3 +987,24 @@ fn the_movingai_checker_refuses_broken_files() {
         assert!(out.contains(why), "{why}: {out}");
     }
 }
+
+#[test]
+fn completions_cover_every_subcommand_and_bash_parses_its_script() {
+    for shell in ["bash", "zsh", "fish"] {
+        let o = mrpp(&["completions", shell]);
+        let (out, err) = text(&o);
+        assert_eq!(o.status.code(), Some(0), "{shell}: {err}");
+        for sub in ["solve", "validate", "convert", "bench", "view", "render"] {
+            assert!(out.contains(sub), "{shell} script lacks {sub}");
+        }
+    }
+    let script = tmp("mrpp.bash");
+    std::fs::write(&script, mrpp(&["completions", "bash"]).stdout).unwrap();
+    let o = Command::new("bash")
+        .arg("-n")
+        .arg(&script)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{:?}", text(&o));
+    assert_ne!(mrpp(&["completions", "tcsh"]).status.code(), Some(0));
+}
