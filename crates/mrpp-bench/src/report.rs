@@ -352,15 +352,7 @@ mod tests {
         // Agent counts as integers, never "50.0".
         assert!(!text_ys(&svg, "100").is_empty(), "no integer tick 100");
         assert!(text_ys(&svg, "100.0").is_empty() && text_ys(&svg, "50.0").is_empty());
-        // It rasterises (the figure is what a person will look at).
-        let tree = resvg::usvg::Tree::from_str(&svg, &resvg::usvg::Options::default()).unwrap();
-        let size = tree.size().to_int_size();
-        let mut pixmap = resvg::tiny_skia::Pixmap::new(size.width(), size.height()).unwrap();
-        resvg::render(
-            &tree,
-            resvg::tiny_skia::Transform::default(),
-            &mut pixmap.as_mut(),
-        );
-        assert!(!pixmap.encode_png().unwrap().is_empty());
+        // Rasterised in the CLI tests (`tests/common`), with every figure the experiments and
+        // the bench write.
     }
 }

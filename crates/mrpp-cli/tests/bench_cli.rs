@@ -2,6 +2,8 @@
 //! unsharded run (apart from wall-clock columns), for a paper table and for a TOML sweep; bad
 //! configs are one-line errors naming the file and line.
 
+mod common;
+
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -211,6 +213,7 @@ fn a_peer_command_joins_the_sweep_and_an_interrupted_run_resumes() {
             "{f}"
         );
     }
+    assert_eq!(common::every_svg_rasterises(&out), 2);
     // Interrupted after three jobs, in the middle of the fourth line: the rerun runs only the
     // other five, and a second rerun finds all eight.
     let progress = std::fs::read_dir(&out)

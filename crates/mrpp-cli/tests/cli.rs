@@ -580,20 +580,21 @@ fn render_writes_png_and_animated_gif_by_extension_and_refuses_others() {
         p,
     ]);
     assert!(o.status.success(), "{o:?}");
-    let png = dir.join("plan.png");
-    assert!(
-        run(&[
+    let render = |out: &std::path::Path, extra: &[&str]| {
+        let mut args = vec![
             "render",
             "--map",
             map,
             "--plan",
             p,
             "--out",
-            png.to_str().unwrap()
-        ])
-        .status
-        .success()
-    );
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        run(&args)
+    };
+    let png = dir.join("plan.png");
+    assert!(render(&png, &[]).status.success());
     let bytes = std::fs::read(&png).unwrap();
     assert_eq!(&bytes[..8], b"\x89PNG\r\n\x1a\n");
     let (w, h) = (
@@ -602,20 +603,7 @@ fn render_writes_png_and_animated_gif_by_extension_and_refuses_others() {
     );
     assert!(w > 100 && h > 100, "{w}x{h}");
     let gif = dir.join("plan.gif");
-    assert!(
-        run(&[
-            "render",
-            "--map",
-            map,
-            "--plan",
-            p,
-            "--out",
-            gif.to_str().unwrap(),
-            "--gif"
-        ])
-        .status
-        .success()
-    );
+    assert!(render(&gif, &["--gif"]).status.success());
     let bytes = std::fs::read(&gif).unwrap();
     assert_eq!(&bytes[..6], b"GIF89a");
     // One graphic control block per frame: at least the plan's steps + 1 (capped at 300).
@@ -633,29 +621,12 @@ fn render_writes_png_and_animated_gif_by_extension_and_refuses_others() {
     );
     for bad in ["plan.jpg", "plan"] {
         let out = dir.join(bad);
-        let o = run(&[
-            "render",
-            "--map",
-            map,
-            "--plan",
-            p,
-            "--out",
-            out.to_str().unwrap(),
-        ]);
+        let o = render(&out, &[]);
         assert_eq!(o.status.code(), Some(1), "{bad}");
         assert!(String::from_utf8_lossy(&o.stderr).contains("unknown picture format"));
         assert!(!out.exists());
     }
-    let o = run(&[
-        "render",
-        "--map",
-        map,
-        "--plan",
-        p,
-        "--out",
-        png.to_str().unwrap(),
-        "--gif",
-    ]);
+    let o = render(&png, &["--gif"]);
     assert_eq!(o.status.code(), Some(1));
     // Trees: the static picture comes from the viewer's scene (tidy layout, routes).
     let tree_plan = dir.join("tree.json");
