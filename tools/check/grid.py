@@ -2,12 +2,13 @@
 """Independent checker of mrpp JSON plans on grid maps (stdlib only).
 
 Usage: python3 tools/check/grid.py MAP PLAN.json
+       python3 tools/check/grid.py LORR_PROBLEM.json PLAN.json
 
 Written from the rules in docs/design.md, not from the Rust validator, so that the two can
 catch each other's mistakes:
 
-- the map is a MovingAI `.map` (header `type`/`height`/`width`/`map`; '.', 'G', 'S' free;
-  '@', 'O', 'T', 'W' blocked) or an ASCII map ('#' wall, space free; CRLF accepted; a row shorter
+- the map is a MovingAI `.map` (header `type`/`height`/`width`/`map`; '.', 'G', 'S' free, and
+  the League of Robot Runners' 'E'; '@', 'O', 'T', 'W' blocked) or an ASCII map ('#' wall, space free; CRLF accepted; a row shorter
   than the longest is free beyond its end);
 - cells are [x, y] with x the column and y the row, from 0 at the top-left;
 - path index = time step, path[0] = the agent's start; a path that ends early leaves the agent
@@ -19,6 +20,12 @@ catch each other's mistakes:
 - goal semantics `stay` (default): every agent ends on its goal; its cost is the step of its last
   arrival there (index of its last cell off the goal + 1, 0 if it never leaves it);
   `visit`: every agent stands on its goal at least once; its cost is the first such step;
+- a League of Robot Runners problem JSON (its `mapFile`, `agentFile`, `taskFile`, `teamSize`,
+  paths relative to the JSON; agent and task files: `#` comments, a count line, then one
+  location `row * width + col` per agent, one comma-separated errand list per task) fixes the
+  starts (the first `teamSize` agents, or the plan's agent count if smaller) and the goals: tasks
+  go out in file order, agent i takes task i unless its first errand is already a goal, then the
+  first task from index teamSize on that is unused with a first errand not yet a goal;
 - sum of costs = sum over agents, makespan = the maximum, sum of moves = steps where an agent's
   cell changes.
 
@@ -34,7 +41,7 @@ or malformed inputs), 2 on wrong usage.
 import json
 import sys
 
-MOVINGAI_FREE = set(".GS")
+MOVINGAI_FREE = set(".GSE")
 MOVINGAI_BLOCKED = set("@OTW")
 
 
@@ -269,17 +276,77 @@ def check(grid, plan):
     return result
 
 
+def lorr_problem(path):
+    """(map path, starts, goals) of a League of Robot Runners problem JSON, cells as (x, y)."""
+    import os
+
+    try:
+        with open(path, encoding="utf-8-sig") as f:
+            spec = json.load(f)
+        base = os.path.dirname(path)
+        map_path = os.path.join(base, spec["mapFile"])
+        team = int(spec["teamSize"])
+
+        def entries(name):
+            with open(os.path.join(base, spec[name]), encoding="utf-8-sig") as f:
+                lines = [l.strip() for l in f if l.strip() and not l.strip().startswith("#")]
+            if int(lines[0]) != len(lines) - 1:
+                raise Invalid(f"{spec[name]}: count {lines[0]} but {len(lines) - 1} entries")
+            return lines[1:]
+
+        agents = [int(l) for l in entries("agentFile")][:team]
+        tasks = [[int(x) for x in l.split(",")] for l in entries("taskFile")]
+    except (OSError, ValueError, KeyError, IndexError, TypeError) as e:
+        raise Invalid(f"{path}: not a readable League of Robot Runners problem ({e})")
+    goals, used = [], set()
+    for i in range(team):
+        if i < len(tasks) and tasks[i][0] not in goals:
+            pick = i
+        else:
+            free = [t for t in range(team, len(tasks)) if t not in used and tasks[t][0] not in goals]
+            if not free:
+                raise Invalid(f"{path}: too few tasks with distinct first errands")
+            pick = free[0]
+        used.add(pick)
+        goals.append(tasks[pick][0])
+    return map_path, agents, goals
+
+
+def check_lorr(problem, grid, plan):
+    """The plan's starts and goals must be the League of Robot Runners problem's."""
+    map_path, agents, goals = problem
+    width = grid[0]
+
+    def cell(loc):
+        return [loc % width, loc // width]
+
+    listed = plan.get("agents") or []
+    if len(listed) > len(agents):
+        raise Invalid(f"the plan has {len(listed)} agents but the problem has {len(agents)}")
+    for i, a in enumerate(listed):
+        for what, loc in (("start", agents[i]), ("goal", goals[i])):
+            if a.get(what) != cell(loc):
+                raise Invalid(f"agent {i} {what} is {a.get(what)} but the problem says {cell(loc)}")
+
+
 def fmt(cell):
     return f"({cell[0]},{cell[1]})"
 
 
 def main(argv):
     if len(argv) != 3:
-        print(f"usage: {argv[0]} MAP PLAN.json", file=sys.stderr)
+        print(f"usage: {argv[0]} MAP|LORR_PROBLEM.json PLAN.json", file=sys.stderr)
         return 2
     try:
-        grid = load_map(argv[1])
-        result = check(grid, load_plan(argv[2]))
+        if argv[1].endswith(".json"):
+            problem = lorr_problem(argv[1])
+            grid = load_map(problem[0])
+            plan = load_plan(argv[2])
+            check_lorr(problem, grid, plan)
+        else:
+            grid = load_map(argv[1])
+            plan = load_plan(argv[2])
+        result = check(grid, plan)
     except Invalid as e:
         print(json.dumps({"valid": False, "reason": str(e)}))
         return 1

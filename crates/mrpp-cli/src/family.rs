@@ -45,6 +45,10 @@ pub(crate) struct Inputs {
     /// Use the first N agents of the scenario (default: all).
     #[arg(long)]
     pub(crate) agents: Option<usize>,
+    /// Grid problem from the League of Robot Runners: its problem JSON (2023 or 2026 start-kit
+    /// layout), read with its map, agents and tasks as a one-shot instance (goal = first task).
+    #[arg(long, conflicts_with_all = ["map", "scen"])]
+    pub(crate) lorr: Option<PathBuf>,
     /// Tree instance JSON: {"nodes": N, "edges": [[u, v], ...], "robots": [{"start", "goal"}]}.
     #[arg(long)]
     pub(crate) instance: Option<PathBuf>,

@@ -1,5 +1,6 @@
-//! The grid family on the command line: `--map M --scen S [--agents N]`, plans as the envelope
-//! with `[x, y]` cells or as LaCAM text, `info` (lower bounds) and `render` (SVG).
+//! The grid family on the command line: `--map M --scen S [--agents N]` or a League of Robot
+//! Runners problem `--lorr P.json` ([`mrpp_grid::lorr`]), plans as the envelope with `[x, y]`
+//! cells or as LaCAM text, `info` (lower bounds) and `render` (SVG).
 
 use std::path::{Path, PathBuf};
 
@@ -24,7 +25,7 @@ pub(crate) const fn def() -> Def<MapfProblem> {
     Def {
         name: mrpp_grid::FAMILY,
         planners: mrpp_grid::PLANNERS,
-        claims: |i| i.map.is_some() && i.instance.is_none(),
+        claims: |i| (i.map.is_some() || i.lorr.is_some()) && i.instance.is_none(),
         load,
         read_plan,
         info: Some(info),
@@ -39,13 +40,62 @@ fn need<'a>(path: &'a Option<PathBuf>, flag: &str) -> Result<&'a Path, Fail> {
         .ok_or_else(|| Fail(format!("grid problems need {flag}")))
 }
 
+/// The map of the grid inputs (`--map`, or the map a `--lorr` problem names) and its path.
+fn map_of(inputs: &Inputs) -> Result<(GridMap, PathBuf), Fail> {
+    if let Some(lorr) = &inputs.lorr {
+        let p = mrpp_grid::lorr::load(lorr)?;
+        return Ok((p.map, p.map_path));
+    }
+    let path = need(&inputs.map, "--map (or --lorr)")?;
+    Ok((GridMap::load(path)?, path.to_path_buf()))
+}
+
+/// The grid problem of the inputs: `--map` with `--scen`, or a `--lorr` problem; both keep the
+/// first `--agents` agents. Returns the map, its path, the problem and the file the agents came
+/// from, with a note for the summary (LoRR: tasks passed over).
+fn problem_of(inputs: &Inputs) -> Result<(GridMap, PathBuf, MapfProblem, PathBuf, String), Fail> {
+    if let Some(lorr) = &inputs.lorr {
+        let p = mrpp_grid::lorr::load(lorr)?;
+        let mut inst = p.instance;
+        if let Some(n) = inputs.agents {
+            if n == 0 || n > inst.num_agents() {
+                return Err(Fail(format!(
+                    "--agents must be 1..={} for {} (its teamSize)",
+                    inst.num_agents(),
+                    lorr.display()
+                )));
+            }
+            inst.starts.truncate(n);
+            inst.goals.truncate(n);
+        }
+        let note = format!(
+            " | LoRR {} one-shot: goal = first task{}",
+            p.version,
+            match p.skipped_tasks {
+                0 => String::new(),
+                k => format!(" ({k} task(s) passed over: first errand already a goal)"),
+            }
+        );
+        let problem = mrpp_grid::problem_on(&p.map, inst);
+        return Ok((p.map, p.map_path, problem, lorr.clone(), note));
+    }
+    let map_path = need(&inputs.map, "--map (or --lorr)")?;
+    let scen_path = need(&inputs.scen, "--scen")?;
+    let (map, problem) = mrpp_grid::load_problem(map_path, scen_path, inputs.agents)?;
+    Ok((
+        map,
+        map_path.to_path_buf(),
+        problem,
+        scen_path.to_path_buf(),
+        String::new(),
+    ))
+}
+
 fn load(inputs: &Inputs) -> Result<Loaded<MapfProblem>, Fail> {
-    let map_path = need(&inputs.map, "--map")?;
-    let (map, problem) =
-        mrpp_grid::load_problem(map_path, need(&inputs.scen, "--scen")?, inputs.agents)?;
-    let map_file = file_name(map_path);
+    let (map, map_path, problem, _, note) = problem_of(inputs)?;
+    let map_file = file_name(&map_path);
     Ok(Loaded {
-        summary: format!("map {map_file} | agents {}", problem.num_agents()),
+        summary: format!("map {map_file} | agents {}{note}", problem.num_agents()),
         problem,
         write: Box::new(move |problem, info, outcome, notes, format| {
             Ok(write_plan(
@@ -85,9 +135,10 @@ fn write_plan(
     }
 }
 
-/// Reads a plan file in either format (JSON starts with `{`), checked against `--scen` when given.
+/// Reads a plan file in either format (JSON starts with `{`), checked against `--scen` (or the
+/// `--lorr` problem) when given.
 fn read_plan(inputs: &Inputs, plan_path: &Path) -> Result<ReadPlan<MapfProblem>, Fail> {
-    let map = GridMap::load(need(&inputs.map, "--map")?)?;
+    let (map, _) = map_of(inputs)?;
     let text = mrpp_core::error::read_file(plan_path)?;
     let (problem, plan, claims, about) = if text.trim_start().starts_with('{') {
         let (problem, plan, env) = read_grid_plan(&map, &text, plan_path)?;
@@ -103,7 +154,16 @@ fn read_plan(inputs: &Inputs, plan_path: &Path) -> Result<ReadPlan<MapfProblem>,
         )
     };
     if let Some(scen) = &inputs.scen {
-        check_against_scenario(&map, problem.instance(), scen, inputs.agents, plan_path)?;
+        let expected =
+            mrpp_grid::scen::load_agents(scen, &map, inputs.agents.or(Some(problem.num_agents())))?;
+        check_against(&map, problem.instance(), &expected, plan_path)?;
+    } else if inputs.lorr.is_some() {
+        let inputs = Inputs {
+            agents: inputs.agents.or(Some(problem.num_agents())),
+            ..inputs.clone()
+        };
+        let (_, _, expected, _, _) = problem_of(&inputs)?;
+        check_against(&map, problem.instance(), expected.instance(), plan_path)?;
     }
     Ok(ReadPlan {
         problem,
@@ -117,15 +177,13 @@ fn or_unknown(s: &str) -> &str {
     if s.is_empty() { "?" } else { s }
 }
 
-/// The plan's starts and goals must be the scenario's first agents.
-fn check_against_scenario(
+/// The plan's starts and goals must be the scenario's (or LoRR problem's) first agents.
+fn check_against(
     map: &GridMap,
     inst: &Instance,
-    scen: &Path,
-    agents: Option<usize>,
+    expected: &Instance,
     plan_path: &Path,
 ) -> Result<(), Fail> {
-    let expected = mrpp_grid::scen::load_agents(scen, map, agents.or(Some(inst.num_agents())))?;
     if expected.num_agents() != inst.num_agents() {
         return Err(Fail(format!(
             "{}: plan has {} agents but the scenario has {}",
@@ -155,9 +213,7 @@ fn check_against_scenario(
 
 /// `mrpp info`: map size, corridor nodes, and lower bounds on any valid plan.
 fn info(inputs: &Inputs) -> Result<u8, Fail> {
-    let map_path = need(&inputs.map, "--map")?;
-    let scen_path = need(&inputs.scen, "--scen")?;
-    let (map, problem) = mrpp_grid::load_problem(map_path, scen_path, inputs.agents)?;
+    let (map, map_path, problem, scen_path, _) = problem_of(inputs)?;
     let (g, inst) = (problem.graph(), problem.instance());
     let corridors = mrpp_grid::corridors::Corridors::build(g);
     let (sum, max) = lower_bounds(g, &inst.starts, &inst.goals).map_err(|i| {
@@ -170,7 +226,7 @@ fn info(inputs: &Inputs) -> Result<u8, Fail> {
     })?;
     println!(
         "map {} {}x{} | free cells {} | corridor-compressed nodes {} | agents {}",
-        file_name(map_path),
+        file_name(&map_path),
         map.width(),
         map.height(),
         g.num_vertices(),
@@ -184,7 +240,7 @@ fn info(inputs: &Inputs) -> Result<u8, Fail> {
 /// `mrpp render`: the map, starts, goals and paths as SVG.
 fn render(inputs: &Inputs, plan: &Path) -> Result<String, Fail> {
     let read = read_plan(inputs, plan)?;
-    let map = GridMap::load(need(&inputs.map, "--map")?)?;
+    let (map, _) = map_of(inputs)?;
     Ok(render_svg(&map, read.problem.instance(), Some(&read.plan)))
 }
 
@@ -193,7 +249,7 @@ fn render(inputs: &Inputs, plan: &Path) -> Result<String, Fail> {
 /// validator's verdict.
 fn scene(inputs: &Inputs, plan: &Path) -> Result<Value, Fail> {
     let read = read_plan(inputs, plan)?;
-    let map = GridMap::load(need(&inputs.map, "--map")?)?;
+    let (map, map_path) = map_of(inputs)?;
     let inst = read.problem.instance();
     let centre = |v: VertexId| {
         let (x, y) = map.cell(v);
@@ -244,7 +300,7 @@ fn scene(inputs: &Inputs, plan: &Path) -> Result<Value, Fail> {
     };
     Ok(json!({
         "family": "grid",
-        "title": format!("{} | {}", file_name(need(&inputs.map, "--map")?), file_name(plan)),
+        "title": format!("{} | {}", file_name(&map_path), file_name(plan)),
         "about": read.about,
         "bounds": [0.0, 0.0, f64::from(map.width()), f64::from(map.height())],
         "y_up": false,

@@ -979,3 +979,64 @@ fn completions_cover_every_subcommand_and_bash_parses_its_script() {
     assert!(o.status.success(), "{:?}", text(&o));
     assert_ne!(mrpp(&["completions", "tcsh"]).status.code(), Some(0));
 }
+
+/// Both League of Robot Runners examples (2023 and 2026 start-kit layouts) load, solve with a
+/// valid plan, and the independent checker, reading the problem JSON itself, agrees on starts,
+/// goals and metrics; a plan is refused against the other problem, and `info`/`render` take
+/// `--lorr` too.
+#[test]
+fn robot_runners_problems_solve_with_plans_both_checkers_accept() {
+    let problems = [
+        data("robot-runners/lorr2023-warehouse_small/warehouse_small_10.json"),
+        data("robot-runners/lorr2026-maze/maze-example_40.json"),
+    ];
+    for (k, problem) in problems.iter().enumerate() {
+        let plan = tmp(&format!("lorr-{k}.json"));
+        let p = plan.to_str().unwrap();
+        let o = mrpp(&["solve", "--lorr", problem, "--planner", "lacam", "--out", p]);
+        let (out, err) = text(&o);
+        assert_eq!(o.status.code(), Some(0), "{out}{err}");
+        assert!(out.contains("one-shot: goal = first task"), "{out}");
+        if k == 1 {
+            assert!(out.contains("1 task(s) passed over"), "{out}");
+        }
+        let o = mrpp(&["validate", "--lorr", problem, "--plan", p]);
+        let (out, err) = text(&o);
+        assert_eq!(o.status.code(), Some(0), "{out}{err}");
+        let agents = [10, 40][k];
+        assert!(out.starts_with(&format!("valid: {agents} agents")), "{out}");
+        let (ok, v) = check(problem, &plan);
+        assert!(ok, "{v}");
+        let soc: u64 = out
+            .split("sum_of_costs ")
+            .nth(1)
+            .and_then(|s| s.split_whitespace().next())
+            .and_then(|s| s.parse().ok())
+            .unwrap();
+        assert_eq!(v["sum_of_costs"].as_u64(), Some(soc));
+        let other = &problems[1 - k];
+        let o = mrpp(&["validate", "--lorr", other, "--plan", p]);
+        assert_eq!(o.status.code(), Some(1), "{:?}", text(&o));
+        let (ok, _) = check(other, &plan);
+        assert!(!ok, "the checker must refuse a plan for another problem");
+    }
+    let o = mrpp(&["info", "--lorr", &problems[0]]);
+    let (out, err) = text(&o);
+    assert_eq!(o.status.code(), Some(0), "{err}");
+    assert!(out.contains("map warehouse_small.map 57x33"), "{out}");
+    let o = mrpp(&[
+        "solve",
+        "--lorr",
+        &problems[0],
+        "--map",
+        &problems[0],
+        "--planner",
+        "lacam",
+    ]);
+    let (_, err) = text(&o);
+    assert_eq!(o.status.code(), Some(1), "{err}");
+    assert!(
+        err.contains("'--lorr <LORR>' cannot be used with '--map <MAP>'"),
+        "{err}"
+    );
+}

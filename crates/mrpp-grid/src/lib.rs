@@ -11,6 +11,7 @@ pub mod hstar;
 pub mod io;
 pub mod lacam;
 pub mod lns;
+pub mod lorr;
 pub mod map;
 pub mod nsga3;
 pub mod pibt;

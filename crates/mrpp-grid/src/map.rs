@@ -27,7 +27,8 @@ pub struct GridMap {
 pub enum MapFormat {
     /// MovingAI: a `type`, `height`, `width` header (any order; `type` optional), `map`, then rows
     /// of MovingAI's terrain characters: `.`, `G` and `S` (swamp) are free; `@`, `O`, `T` (trees)
-    /// and `W` (water, which cannot be entered from land) are walls.
+    /// and `W` (water, which cannot be entered from land) are walls. The League of Robot Runners'
+    /// `E` (emitter) is free too ([`crate::lorr`]).
     MovingAi,
     /// H* paper: rows of `#` (wall) and space (free); CRLF and a missing final newline tolerated.
     Ascii,
@@ -239,7 +240,7 @@ fn parse_movingai(text: &str, path: &Path) -> Result<GridMap> {
         let mut row = Vec::with_capacity(width as usize);
         for (x, ch) in line.chars().enumerate() {
             row.push(match ch {
-                '.' | 'G' | 'S' => true,
+                '.' | 'G' | 'S' | 'E' => true,
                 '@' | 'O' | 'T' | 'W' => false,
                 other => {
                     return Err(Error::parse(

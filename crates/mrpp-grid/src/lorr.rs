@@ -1,0 +1,334 @@
+//! League of Robot Runners (LoRR) problems as one-shot MAPF instances.
+//!
+//! A LoRR problem is a JSON file naming a map, an agent file and a task file (paths relative to
+//! the JSON), as in the competition's start kit (GitHub `MAPF-Competition/Start-Kit`, file
+//! `Input_Output_Format.md`; MIT licence). Both layouts are read:
+//!
+//! - **2023/2024** (`r2024` branch): `mapFile`, `agentFile`, `teamSize`, `taskFile`,
+//!   `numTasksReveal`, `taskAssignmentStrategy`; task lines hold one location.
+//! - **2026** (`main` branch): the same keys plus `version`, `agentCounter`, `agentSize`,
+//!   `delayConfig`; the agent and task files start with a `#` comment line and a task line is a
+//!   comma-separated sequence of errand locations (`203,453`), visited in order.
+//!
+//! The map is a MovingAI map whose cells may also be `E` (emitter) and `S` (service), both
+//! traversable ([`crate::map`]). Locations are linearised: `loc = row * width + col`.
+//!
+//! **One-shot instance** (mrpp's choice; the start kit itself only runs lifelong problems): agent
+//! `i` (the first `teamSize` lines of the agent file) starts at its location and its goal is the
+//! first errand of its first task. Tasks are handed out in file order, so agent `i` gets task `i`
+//! as under the start kit's round robin, except that a task whose first errand is already another
+//! agent's goal is passed over (two agents cannot both finish on one cell) and the next unused
+//! task in file order is taken instead; [`LorrProblem::skipped_tasks`] counts those. The whole
+//! task list is kept in [`LorrProblem::tasks`] for a lifelong run.
+
+use std::path::{Path, PathBuf};
+
+use serde_json::Value;
+
+use mrpp_core::error::{Error, Result, read_file};
+use mrpp_core::mapf::graph::VertexId;
+use mrpp_core::mapf::instance::Instance;
+
+use crate::map::GridMap;
+
+/// A League of Robot Runners problem, read from its JSON and the three files it names.
+#[derive(Debug, Clone)]
+pub struct LorrProblem {
+    /// The map file (resolved against the JSON's folder).
+    pub map_path: PathBuf,
+    /// The map.
+    pub map: GridMap,
+    /// The one-shot instance: `teamSize` agents, goals as described in the module doc.
+    pub instance: Instance,
+    /// Every task of the task file in file order, each a sequence of errand vertices.
+    pub tasks: Vec<Vec<VertexId>>,
+    /// Index into [`Self::tasks`] of the task each agent's goal came from.
+    pub assigned: Vec<usize>,
+    /// Tasks passed over because their first errand was already another agent's goal.
+    pub skipped_tasks: usize,
+    /// `"2026 LoRR"` for the 2026 layout, `"2023"` otherwise (no `version` key).
+    pub version: String,
+}
+
+/// Reads a LoRR problem JSON and the map, agent and task files it names.
+///
+/// # Errors
+/// The file and rule: unreadable or malformed JSON, a missing key, a count line that disagrees
+/// with the lines that follow, a location off the map or on a wall (file and line), fewer agents
+/// than `teamSize`, or fewer usable tasks than agents.
+pub fn load(path: &Path) -> Result<LorrProblem> {
+    let text = read_file(path)?;
+    let json: Value = serde_json::from_str(text.trim_start_matches('\u{feff}')).map_err(|e| {
+        Error::parse(
+            path,
+            e.line(),
+            format!("not a League of Robot Runners problem JSON: {e}"),
+        )
+    })?;
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let file = |key: &str| -> Result<PathBuf> {
+        json.get(key)
+            .and_then(Value::as_str)
+            .map(|f| dir.join(f))
+            .ok_or_else(|| Error::invalid(path, format!("no `{key}` (a file name) in the problem")))
+    };
+    let map_path = file("mapFile")?;
+    let agent_path = file("agentFile")?;
+    let task_path = file("taskFile")?;
+    let team = json
+        .get("teamSize")
+        .and_then(Value::as_u64)
+        .filter(|&n| n > 0)
+        .ok_or_else(|| Error::invalid(path, "`teamSize` must be a positive integer"))?
+        as usize;
+    let version = json
+        .get("version")
+        .and_then(Value::as_str)
+        .unwrap_or("2023")
+        .to_string();
+
+    let map = GridMap::load(&map_path)?;
+    let vertex = |loc: i64, file: &Path, line: usize| -> Result<VertexId> {
+        let w = i64::from(map.width());
+        let cells = w * i64::from(map.height());
+        if !(0..cells).contains(&loc) {
+            return Err(Error::parse(
+                file,
+                line,
+                format!("location {loc} is off the map (0..{cells})"),
+            ));
+        }
+        let (x, y) = (loc % w, loc / w);
+        map.vertex_at(x, y).ok_or_else(|| {
+            Error::parse(
+                file,
+                line,
+                format!("location {loc} is cell ({x},{y}), a wall"),
+            )
+        })
+    };
+
+    let agent_lines = counted_lines(&agent_path)?;
+    if agent_lines.len() < team {
+        return Err(Error::invalid(
+            &agent_path,
+            format!(
+                "`teamSize` is {team} but the file has only {} agents",
+                agent_lines.len()
+            ),
+        ));
+    }
+    let mut starts = Vec::with_capacity(team);
+    for (no, line) in &agent_lines[..team] {
+        starts.push(vertex(int(line, &agent_path, *no)?, &agent_path, *no)?);
+    }
+    let mut tasks = Vec::new();
+    for (no, line) in counted_lines(&task_path)? {
+        let errands = line
+            .split(',')
+            .map(|f| vertex(int(f, &task_path, no)?, &task_path, no))
+            .collect::<Result<Vec<_>>>()?;
+        tasks.push(errands);
+    }
+
+    let (goals, assigned, skipped_tasks) = first_tasks(&tasks, team).ok_or_else(|| {
+        Error::invalid(
+            &task_path,
+            format!("{team} agents need {team} tasks with distinct first errands"),
+        )
+    })?;
+    Ok(LorrProblem {
+        map_path,
+        map,
+        instance: Instance { starts, goals },
+        tasks,
+        assigned,
+        skipped_tasks,
+        version,
+    })
+}
+
+/// Hands tasks out in file order (module doc): `(goals, task index per agent, tasks skipped)`,
+/// or `None` when too few tasks have distinct first errands.
+fn first_tasks(tasks: &[Vec<VertexId>], team: usize) -> Option<(Vec<VertexId>, Vec<usize>, usize)> {
+    let mut taken = rustc_hash::FxHashSet::default();
+    let mut goals = Vec::with_capacity(team);
+    let mut assigned = Vec::with_capacity(team);
+    let mut used = vec![false; tasks.len()];
+    let mut skipped = 0;
+    for i in 0..team {
+        let pick = if i < tasks.len() && !taken.contains(&tasks[i][0]) {
+            Some(i)
+        } else {
+            skipped += 1;
+            (0..tasks.len()).find(|&t| !used[t] && t >= team && !taken.contains(&tasks[t][0]))
+        }?;
+        used[pick] = true;
+        taken.insert(tasks[pick][0]);
+        goals.push(tasks[pick][0]);
+        assigned.push(pick);
+    }
+    Some((goals, assigned, skipped))
+}
+
+fn int(field: &str, path: &Path, line: usize) -> Result<i64> {
+    field.trim().parse::<i64>().map_err(|_| {
+        Error::parse(
+            path,
+            line,
+            format!("`{}` is not a location (an integer)", field.trim()),
+        )
+    })
+}
+
+/// The entries of a LoRR agent or task file: `#` comment lines skipped, then a count line, then
+/// exactly that many non-empty lines, each returned with its 1-based line number.
+fn counted_lines(path: &Path) -> Result<Vec<(usize, String)>> {
+    let text = read_file(path)?;
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| {
+            (
+                i + 1,
+                l.trim_matches(|c: char| c.is_whitespace() || c == '\u{feff}'),
+            )
+        })
+        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
+    let (no, count) = lines
+        .next()
+        .ok_or_else(|| Error::invalid(path, "empty file: expected a count line"))?;
+    let count: usize = count.parse().map_err(|_| {
+        Error::parse(
+            path,
+            no,
+            format!("expected the number of entries, found `{count}`"),
+        )
+    })?;
+    let entries: Vec<(usize, String)> = lines.map(|(n, l)| (n, l.to_string())).collect();
+    if entries.len() != count {
+        return Err(Error::parse(
+            path,
+            no,
+            format!(
+                "count line says {count} but {} entries follow",
+                entries.len()
+            ),
+        ));
+    }
+    Ok(entries)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn data(rel: &str) -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../data/robot-runners")
+            .join(rel)
+    }
+
+    #[test]
+    fn reads_the_2023_warehouse_example() {
+        let p = load(&data("lorr2023-warehouse_small/warehouse_small_10.json")).unwrap();
+        assert_eq!((p.map.width(), p.map.height()), (57, 33));
+        assert_eq!(p.instance.num_agents(), 10);
+        assert_eq!(p.tasks.len(), 20000);
+        assert_eq!(p.assigned, (0..10).collect::<Vec<_>>());
+        assert_eq!(p.skipped_tasks, 0);
+        assert_eq!(p.version, "2023");
+        // agent 0 starts at location 1032 = row 18, column 6; its goal is task 0, location 1298.
+        assert_eq!(p.map.cell(p.instance.starts[0]), (1032 % 57, 1032 / 57));
+        assert_eq!(p.map.cell(p.instance.goals[0]), (1298 % 57, 1298 / 57));
+    }
+
+    #[test]
+    fn reads_the_2026_maze_example_and_passes_over_a_shared_first_errand() {
+        let p = load(&data("lorr2026-maze/maze-example_40.json")).unwrap();
+        assert_eq!(p.instance.num_agents(), 40);
+        assert_eq!(p.tasks.len(), 160);
+        assert!(
+            p.tasks.iter().all(|t| t.len() >= 2),
+            "2026 tasks are errand sequences"
+        );
+        // Among the first 40 tasks two share a first errand: one agent takes task 40 instead.
+        assert_eq!(p.skipped_tasks, 1);
+        assert_eq!(p.assigned.iter().filter(|&&t| t >= 40).count(), 1);
+        let mut goals = p.instance.goals.clone();
+        goals.sort_unstable();
+        goals.dedup();
+        assert_eq!(goals.len(), 40);
+        assert_eq!(p.version, "2026 LoRR");
+    }
+
+    #[test]
+    fn hand_out_order() {
+        let tasks = vec![vec![1], vec![1, 5], vec![2], vec![3], vec![1]];
+        let (goals, assigned, skipped) = first_tasks(&tasks, 3).unwrap();
+        assert_eq!(
+            (goals, assigned, skipped),
+            (vec![1, 3, 2], vec![0, 3, 2], 1)
+        );
+        assert!(first_tasks(&[vec![1], vec![1]], 2).is_none());
+    }
+
+    #[test]
+    fn errors_name_file_line_and_rule() {
+        let dir = std::env::temp_dir().join(format!("mrpp-lorr-{}", std::process::id()));
+        std::fs::create_dir_all(dir.join("maps")).unwrap();
+        std::fs::write(
+            dir.join("maps/m.map"),
+            "type octile\nheight 2\nwidth 3\nmap\n.E@\nS..\n",
+        )
+        .unwrap();
+        std::fs::write(dir.join("a.agents"), "2\n0\n1\n").unwrap();
+        let problem = |team: u32, tasks: &str| {
+            std::fs::write(dir.join("t.tasks"), tasks).unwrap();
+            std::fs::write(
+                dir.join("p.json"),
+                format!(
+                    r#"{{"mapFile": "maps/m.map", "agentFile": "a.agents", "taskFile": "t.tasks", "teamSize": {team}}}"#
+                ),
+            )
+            .unwrap();
+            load(&dir.join("p.json"))
+                .map(|p| p.instance)
+                .map_err(|e| e.to_string())
+        };
+        let ok = problem(2, "2\n3\n4\n").unwrap();
+        assert_eq!((ok.starts.len(), ok.goals.len()), (2, 2));
+        let wall = problem(2, "2\n3\n2\n").unwrap_err();
+        assert!(
+            wall.ends_with("t.tasks:3: location 2 is cell (2,0), a wall"),
+            "{wall}"
+        );
+        let off = problem(2, "2\n3\n9\n").unwrap_err();
+        assert!(
+            off.contains("t.tasks:3: location 9 is off the map (0..6)"),
+            "{off}"
+        );
+        let count = problem(2, "3\n3\n4\n").unwrap_err();
+        assert!(
+            count.contains("t.tasks:1: count line says 3 but 2 entries follow"),
+            "{count}"
+        );
+        let team = problem(3, "2\n3\n4\n").unwrap_err();
+        assert!(
+            team.contains("`teamSize` is 3 but the file has only 2 agents"),
+            "{team}"
+        );
+        let same = problem(2, "2\n3\n3\n").unwrap_err();
+        assert!(
+            same.contains("2 agents need 2 tasks with distinct first errands"),
+            "{same}"
+        );
+        std::fs::write(dir.join("bad.json"), "{\"mapFile\": 3").unwrap();
+        let json = load(&dir.join("bad.json")).unwrap_err().to_string();
+        assert!(
+            json.contains("bad.json:1: not a League of Robot Runners problem JSON"),
+            "{json}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
