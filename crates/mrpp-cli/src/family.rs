@@ -35,37 +35,37 @@ pub(crate) static FAMILIES: &[&dyn Family] = &[
 
 /// The input files of any family (which ones a family reads is its own business).
 #[derive(clap::Args, Debug, Clone, Default)]
-pub(crate) struct Inputs {
+pub struct Inputs {
     /// Grid map: MovingAI `.map` or the H* paper's ASCII map (detected from the content).
     #[arg(long)]
-    pub(crate) map: Option<PathBuf>,
+    pub map: Option<PathBuf>,
     /// Grid agents: MovingAI `.scen` or an H* robot file `x,y;x,y` (detected from the content).
     #[arg(long)]
-    pub(crate) scen: Option<PathBuf>,
+    pub scen: Option<PathBuf>,
     /// Use the first N agents of the scenario (default: all).
     #[arg(long)]
-    pub(crate) agents: Option<usize>,
+    pub agents: Option<usize>,
     /// Grid problem from the League of Robot Runners: its problem JSON (2023 or 2026 start-kit
     /// layout), read with its map, agents and tasks as a one-shot instance (goal = first task).
     #[arg(long, conflicts_with_all = ["map", "scen"])]
-    pub(crate) lorr: Option<PathBuf>,
+    pub lorr: Option<PathBuf>,
     /// Tree instance JSON: {"nodes": N, "edges": [[u, v], ...], "robots": [{"start", "goal"}]}.
     #[arg(long)]
-    pub(crate) instance: Option<PathBuf>,
+    pub instance: Option<PathBuf>,
     /// Formation file JSON: {"map": polygon map, "robots": R, "start": [x, y], "goal": [x, y],
     /// "radius", "cost": {"model": "lanes"|"waves"|"hard"}}.
     #[arg(long)]
-    pub(crate) formation: Option<PathBuf>,
+    pub formation: Option<PathBuf>,
     /// Continuous world JSON: {"workspace": [x0, y0, x1, y1], "obstacles": [[[x, y], ...]],
     /// "robots": [{"start", "goal", "radius", "speed"}], "epsilon", "step_limit"}.
     #[arg(long)]
-    pub(crate) world: Option<PathBuf>,
+    pub world: Option<PathBuf>,
     /// The test family's world file (hidden).
     #[arg(long, hide = true)]
-    pub(crate) line_world: Option<PathBuf>,
+    pub line_world: Option<PathBuf>,
     /// Trees: forbid following (entering a node another robot leaves in the same step).
     #[arg(long)]
-    pub(crate) no_following: bool,
+    pub no_following: bool,
 }
 
 /// Output format of `solve`.
@@ -101,7 +101,13 @@ pub(crate) trait Family: Sync {
     /// Whether `inputs` are this family's (for `validate`, `info`, `render`).
     fn claims(&self, inputs: &Inputs) -> bool;
     fn solve(&self, req: &SolveRequest) -> Result<u8, Fail>;
+    /// Plans without printing: `(solved, status, the plan envelope as JSON)`.
+    fn solve_quietly(&self, req: &SolveRequest) -> Result<(bool, String, String), Fail>;
+    /// Loads the inputs: `(summary, number of agents)`.
+    fn describe(&self, inputs: &Inputs) -> Result<(String, usize), Fail>;
     fn validate(&self, inputs: &Inputs, plan: &Path) -> Result<u8, Fail>;
+    /// Checks a plan file without printing: `(agents, metrics, about)`.
+    fn check(&self, inputs: &Inputs, plan: &Path) -> Result<Checked, Fail>;
     fn info(&self, inputs: &Inputs) -> Result<u8, Fail>;
     fn render(&self, inputs: &Inputs, plan: &Path) -> Result<String, Fail>;
     fn scene(&self, inputs: &Inputs, plan: &Path) -> Result<Value, Fail>;
@@ -172,8 +178,33 @@ impl<P: Problem + 'static> Family for Def<P> {
     fn solve(&self, req: &SolveRequest) -> Result<u8, Fail> {
         solve_with(self, req)
     }
+    fn solve_quietly(&self, req: &SolveRequest) -> Result<(bool, String, String), Fail> {
+        let run = run_planner(self, req, false)?;
+        let status = match &run.outcome {
+            Ok(_) => "solved".to_string(),
+            Err(Unsolved::Invalid(why)) => {
+                return Err(Fail(format!("invalid plan (a bug in mrpp): {why}")));
+            }
+            Err(why) => why.to_string(),
+        };
+        let json = (run.loaded.write)(
+            &run.loaded.problem,
+            run.info,
+            &run.outcome,
+            run.notes,
+            Format::Json,
+        )?;
+        Ok((run.outcome.is_ok(), status, json))
+    }
+    fn describe(&self, inputs: &Inputs) -> Result<(String, usize), Fail> {
+        let loaded = (self.load)(inputs)?;
+        Ok((loaded.summary, loaded.problem.num_agents()))
+    }
     fn validate(&self, inputs: &Inputs, plan: &Path) -> Result<u8, Fail> {
         validate_with(self, inputs, plan)
+    }
+    fn check(&self, inputs: &Inputs, plan: &Path) -> Result<Checked, Fail> {
+        check_with(self, inputs, plan)
     }
     fn info(&self, inputs: &Inputs) -> Result<u8, Fail> {
         let info = self.info.ok_or_else(|| self.lacks("info"))?;
@@ -230,10 +261,23 @@ pub(crate) fn family_of_inputs(inputs: &Inputs) -> Result<&'static dyn Family, F
         })
 }
 
-/// The generic `solve`: load, build the planner from the registry, plan through the core
-/// `solve` (which validates once), print the summary, write the plan file, exit 0 solved,
-/// 3 not solved; an invalid plan (a bug) is an error (exit 1) and nothing is written.
-fn solve_with<P: Problem + 'static>(def: &Def<P>, req: &SolveRequest) -> Result<u8, Fail> {
+/// One planner run: the loaded problem, the run's header, its outcome and the planner's notes.
+struct Run<P: Problem> {
+    loaded: Loaded<P>,
+    info: RunInfo,
+    outcome: Outcome<P>,
+    notes: Map<String, Value>,
+    runtime_ms: f64,
+    planner: String,
+}
+
+/// Loads, builds the planner from the registry and plans through the core `solve` (which
+/// validates once); `announce` prints the header line and shows a progress bar.
+fn run_planner<P: Problem + 'static>(
+    def: &Def<P>,
+    req: &SolveRequest,
+    announce: bool,
+) -> Result<Run<P>, Fail> {
     let limit = time_limit(req.time_limit)?;
     if !(def.claims)(&req.inputs) {
         return Err(Fail(format!(
@@ -247,30 +291,39 @@ fn solve_with<P: Problem + 'static>(def: &Def<P>, req: &SolveRequest) -> Result<
             def.name
         )));
     }
-    let entry = find(def.planners, &req.planner).expect("the family has this planner");
+    let entry = find(def.planners, &req.planner).ok_or_else(|| {
+        Fail(format!(
+            "planner `{}` is not a {} planner",
+            req.planner, def.name
+        ))
+    })?;
     let params = Params::resolve(entry.name, entry.params, &req.params)?;
     let planner = (entry.build)(&params)?;
     let loaded = (def.load)(&req.inputs)?;
-    let bar = progress::bar();
+    let bar = if announce {
+        progress::bar()
+    } else {
+        indicatif::ProgressBar::hidden()
+    };
     let ctx = Ctx {
-        progress: Some(progress::callback(&bar)),
+        progress: announce.then(|| progress::callback(&bar)),
         ..Ctx::new(req.seed, Deadline::after(limit))
     };
-    println!(
-        "mrpp {} | {} | family {} | planner {} | seed {} | {}",
-        env!("CARGO_PKG_VERSION"),
-        req.command,
-        def.name,
-        entry.name,
-        req.seed,
-        loaded.summary
-    );
+    if announce {
+        println!(
+            "mrpp {} | {} | family {} | planner {} | seed {} | {}",
+            env!("CARGO_PKG_VERSION"),
+            req.command,
+            def.name,
+            entry.name,
+            req.seed,
+            loaded.summary
+        );
+    }
     let started = Instant::now();
     let outcome = solve(planner.as_ref(), &loaded.problem, &ctx);
     bar.finish_and_clear();
     let runtime_ms = started.elapsed().as_secs_f64() * 1e3;
-    let notes = planner.notes();
-    report(&outcome, runtime_ms, planner.name(), &notes)?;
     let info = RunInfo {
         planner: entry.name.to_string(),
         params: params
@@ -281,8 +334,23 @@ fn solve_with<P: Problem + 'static>(def: &Def<P>, req: &SolveRequest) -> Result<
         runtime_ms,
         ..RunInfo::default()
     };
-    write_outputs(&loaded, req, info, &outcome, notes)?;
-    Ok(if outcome.is_ok() { 0 } else { 3 })
+    Ok(Run {
+        loaded,
+        info,
+        outcome,
+        notes: planner.notes(),
+        runtime_ms,
+        planner: planner.name().to_string(),
+    })
+}
+
+/// The generic `solve`: one [`run_planner`], print the summary, write the plan file, exit 0
+/// solved, 3 not solved; an invalid plan (a bug) is an error (exit 1) and nothing is written.
+fn solve_with<P: Problem + 'static>(def: &Def<P>, req: &SolveRequest) -> Result<u8, Fail> {
+    let run = run_planner(def, req, true)?;
+    report(&run.outcome, run.runtime_ms, &run.planner, &run.notes)?;
+    write_outputs(&run.loaded, req, run.info, &run.outcome, run.notes)?;
+    Ok(if run.outcome.is_ok() { 0 } else { 3 })
 }
 
 /// Prints the outcome line (and the planner's short notes); an invalid plan is an error.
@@ -337,13 +405,21 @@ fn write_outputs<P: Problem>(
     Ok(())
 }
 
-/// The generic `validate`: exit 0 when the plan is valid and its claims hold, 1 naming the first
-/// violation.
-fn validate_with<P: Problem + 'static>(
+/// A plan file that passed the validator and whose claimed metrics hold.
+pub(crate) struct Checked {
+    pub(crate) agents: usize,
+    /// The validator's metrics.
+    pub(crate) metrics: Map<String, Value>,
+    /// Extra words for the summary (planner, seed, ...).
+    pub(crate) about: String,
+}
+
+/// Reads a plan file, validates it and compares its claimed metrics with the validator's.
+fn check_with<P: Problem + 'static>(
     def: &Def<P>,
     inputs: &Inputs,
     plan_path: &Path,
-) -> Result<u8, Fail> {
+) -> Result<Checked, Fail> {
     let read = (def.read_plan)(inputs, plan_path)?;
     let m = read
         .problem
@@ -357,14 +433,29 @@ fn validate_with<P: Problem + 'static>(
             plan_path.display()
         )));
     }
+    Ok(Checked {
+        agents: read.problem.num_agents(),
+        metrics: actual,
+        about: read.about,
+    })
+}
+
+/// The generic `validate`: exit 0 when the plan is valid and its claims hold, 1 naming the first
+/// violation.
+fn validate_with<P: Problem + 'static>(
+    def: &Def<P>,
+    inputs: &Inputs,
+    plan_path: &Path,
+) -> Result<u8, Fail> {
+    let c = check_with(def, inputs, plan_path)?;
     println!(
         "valid: {} agents | {}{}",
-        read.problem.num_agents(),
-        pairs(&actual),
-        if read.about.is_empty() {
+        c.agents,
+        pairs(&c.metrics),
+        if c.about.is_empty() {
             String::new()
         } else {
-            format!(" | {}", read.about)
+            format!(" | {}", c.about)
         }
     );
     Ok(0)

@@ -28,6 +28,7 @@ fn at(scene: &Value, a: &Value, k: usize) -> Option<[f64; 2]> {
 }
 
 /// Steps of the scene's plan.
+#[cfg(feature = "raster")]
 pub(crate) fn steps(scene: &Value) -> usize {
     scene["agents"]
         .as_array()
@@ -47,6 +48,7 @@ pub(crate) fn steps(scene: &Value) -> usize {
 }
 
 /// One frame of the scene at step `t` as SVG.
+#[cfg(any(feature = "raster", test))]
 pub(crate) fn frame_svg(scene: &Value, t: usize) -> String {
     draw(scene, Some(t))
 }

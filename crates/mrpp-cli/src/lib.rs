@@ -1,0 +1,288 @@
+//! `mrpp`: the command line of the mrpp toolkit. A thin layer: parse arguments, pick the family
+//! ([`family::FAMILIES`], the one family table), call the library, write files atomically, print
+//! one summary, and map outcomes to exit codes: 0 = solved / valid, 1 = bad input, usage or an
+//! invalid plan (a bug), 3 = not solved.
+//!
+//! The crate is a library too: [`main`] is the whole command line (the `mrpp` binary calls it),
+//! and [`api`] gives bindings (the Python package `crates/mrpp-py`) the same family table,
+//! loaders, planners, validator and viewer without printing.
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+
+pub mod api;
+mod bench;
+mod continuous_family;
+mod experiment;
+mod family;
+mod formation_family;
+mod gen_cmd;
+mod grid_family;
+mod output;
+mod picture;
+mod progress;
+#[cfg(feature = "raster")]
+mod raster;
+mod sweeps;
+#[cfg(test)]
+mod toy_family;
+mod tree_family;
+mod verbs;
+mod view;
+
+use family::{Format, Inputs, SolveRequest};
+use output::Fail;
+
+#[derive(Parser)]
+#[command(
+    name = "mrpp",
+    version,
+    about = "Multi-robot path planning: plan, validate and draw"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Plan paths for a problem of any family (the planner names the family; see `mrpp planners`).
+    Solve(SolveArgs),
+    /// Check a plan (the mrpp plan envelope, or LaCAM text on grids): exit 0 when valid, 1 naming
+    /// the first violation.
+    Validate {
+        #[command(flatten)]
+        inputs: Inputs,
+        #[arg(long)]
+        plan: PathBuf,
+    },
+    /// List the planners of every family (or of one) with their parameters.
+    Planners {
+        /// Only this family (grid, trees).
+        #[arg(long)]
+        family: Option<String>,
+    },
+    /// Describe an instance: map size, free cells, corridor nodes, and lower bounds on any valid
+    /// plan's sum of costs and makespan (each agent's shortest distance, ignoring the others).
+    Info {
+        #[command(flatten)]
+        inputs: Inputs,
+    },
+    /// Reproduce a paper's table (see docs/reproduction/); `--shard i/N` runs one part.
+    #[command(subcommand)]
+    Experiment(experiment::Experiment),
+    /// Benchmark sweeps: `bench run` (TOML config or flags, `--shard i/N`), `bench merge`.
+    #[command(subcommand)]
+    Bench(bench::Bench),
+    /// Write a grid map (MovingAI or the H* paper's text format) as a MovingAI `.map`, and with
+    /// --scen its agents as a MovingAI `.scen`, so any MovingAI tool (e.g. the MAPF visualizer)
+    /// reads them. Example: `mrpp convert --map data/hstar-paper/scenario3/scenery_warehouse.txt
+    /// --scen data/hstar-paper/scenario3/30warehouse --out-map warehouse.map --out-scen warehouse-30.scen`.
+    Convert {
+        #[arg(long)]
+        map: PathBuf,
+        /// Agents to write as `.scen` (MovingAI `.scen` or the H* paper's robot file).
+        #[arg(long)]
+        scen: Option<PathBuf>,
+        /// Only the first N agents.
+        #[arg(long)]
+        agents: Option<usize>,
+        #[arg(long)]
+        out_map: PathBuf,
+        /// Where the `.scen` goes (needs --scen).
+        #[arg(long)]
+        out_scen: Option<PathBuf>,
+    },
+    /// Print a shell completion script. Example (bash):
+    /// `mrpp completions bash > ~/.local/share/bash-completion/completions/mrpp`.
+    Completions {
+        /// bash, zsh, fish, elvish or powershell.
+        shell: clap_complete::Shell,
+    },
+    /// Problem files from seeds: random grid maps and scenarios, polygon worlds, formation files.
+    #[command(subcommand)]
+    Gen(gen_cmd::Gen),
+    /// Single-lane tree problems: generate, solve (PSW or GP), run a GP program, validate.
+    #[command(subcommand)]
+    Trees(tree_family::Trees),
+    /// Watch a plan: one self-contained HTML page (play, step, scrub, zoom), written to --out
+    /// (default: the plan's name with .html) or served on 127.0.0.1 with --serve.
+    /// Example: `mrpp view --map data/movingai/random-32-32-20.map --plan plan.json --out plan.html`.
+    View {
+        #[command(flatten)]
+        inputs: Inputs,
+        #[arg(long)]
+        plan: PathBuf,
+        #[arg(long)]
+        out: Option<PathBuf>,
+        /// Serve the page on 127.0.0.1 (the address is printed) until interrupted.
+        #[arg(long)]
+        serve: bool,
+        /// Port for --serve (0: any free port).
+        #[arg(long, default_value_t = 0)]
+        port: u16,
+    },
+    /// Draw a plan (map, starts, goals, paths) as an SVG picture.
+    Render {
+        #[command(flatten)]
+        inputs: Inputs,
+        #[arg(long)]
+        plan: PathBuf,
+        /// The picture, by extension: .svg, .png, or .gif (animated, one frame per step).
+        #[arg(long)]
+        out: PathBuf,
+        /// An animated GIF (the same as an --out ending in .gif, which it requires).
+        #[arg(long)]
+        gif: bool,
+    },
+}
+
+#[derive(clap::Args)]
+struct SolveArgs {
+    #[command(flatten)]
+    inputs: Inputs,
+    /// Planner (`mrpp planners` lists them): hstar, ca, hca, whca, coevolution, nsga3, pibt, lacam,
+    /// cbs, eecbs, psw, gp, sequential, ga, exact, hbmo, de, pso, orca.
+    #[arg(long)]
+    planner: String,
+    /// Planner parameter `key=value`, repeatable (unknown keys are refused with the valid ones).
+    #[arg(short = 'p', long = "param", value_name = "KEY=VALUE")]
+    params: Vec<String>,
+    /// Seed of every random choice.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Wall-clock limit in seconds.
+    #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
+    time_limit: f64,
+    /// Same as `-p window=W` (WHCA*).
+    #[arg(long)]
+    window: Option<u32>,
+    /// Same as `-p variant=V` (H*: repaired or paper; coevolution: intended or inverted).
+    #[arg(long)]
+    variant: Option<String>,
+    /// Write the plan here (also written when not solved, with "solved": false).
+    #[arg(long)]
+    out: Option<PathBuf>,
+    /// Write a program the planner made (GP) here.
+    #[arg(long)]
+    save_program: Option<PathBuf>,
+    #[arg(long, value_enum, default_value_t = Format::Json)]
+    format: Format,
+}
+
+impl SolveArgs {
+    /// The request, with `--window`/`--variant` turned into parameters (before `-p`, which wins).
+    fn request(self) -> Result<SolveRequest, Fail> {
+        let mut params = Vec::new();
+        if let Some(w) = self.window {
+            params.push(("window".to_string(), w.to_string()));
+        }
+        if let Some(v) = self.variant {
+            params.push(("variant".to_string(), v));
+        }
+        for p in &self.params {
+            let (k, v) = mrpp_core::registry::parse_key_value(p)?;
+            if params.iter().any(|(key, _)| *key == k) {
+                return Err(Fail(format!(
+                    "`{k}` is given twice (a flag and -p, or two -p)"
+                )));
+            }
+            params.push((k, v));
+        }
+        Ok(SolveRequest {
+            inputs: self.inputs,
+            planner: self.planner,
+            params,
+            seed: self.seed,
+            time_limit: self.time_limit,
+            out: self.out,
+            format: self.format,
+            save_program: self.save_program,
+            command: "solve",
+        })
+    }
+}
+
+/// The `mrpp` command line: parses `std::env::args`, runs the command, returns its exit code.
+pub fn main() -> ExitCode {
+    let cli = match Cli::try_parse() {
+        Ok(c) => c,
+        Err(e) => {
+            let code = if e.use_stderr() { 1 } else { 0 };
+            let _ = e.print();
+            return ExitCode::from(code);
+        }
+    };
+    match run(cli.command) {
+        Ok(code) => ExitCode::from(code),
+        Err(Fail(msg)) => {
+            eprintln!("mrpp: error: {msg}");
+            ExitCode::from(1)
+        }
+    }
+}
+
+fn run(command: Command) -> Result<u8, Fail> {
+    match command {
+        Command::Solve(args) => verbs::solve(&args.request()?),
+        Command::Validate { inputs, plan } => verbs::validate(&inputs, &plan),
+        Command::Planners { family } => family::list_planners(family.as_deref()),
+        Command::Info { inputs } => verbs::info(&inputs),
+        Command::Render {
+            inputs,
+            plan,
+            out,
+            gif,
+        } => verbs::render(&inputs, &plan, &out, gif),
+        Command::View {
+            inputs,
+            plan,
+            out,
+            serve,
+            port,
+        } => view::view(&inputs, &plan, out, serve, port),
+        Command::Experiment(e) => experiment::run(e, None),
+        Command::Bench(bench::Bench::Run(a)) => bench::run(*a, None),
+        Command::Bench(bench::Bench::Merge { out, parts }) => merge(out, parts),
+        Command::Trees(t) => tree_family::run(t),
+        Command::Gen(g) => gen_cmd::run(g),
+        Command::Completions { shell } => {
+            use clap::CommandFactory as _;
+            use std::io::Write as _;
+            // Written whole from a buffer: a closed pipe (`| head`) ends the output, not in a panic.
+            let mut script = Vec::new();
+            clap_complete::generate(shell, &mut Cli::command(), "mrpp", &mut script);
+            let _ = std::io::stdout().write_all(&script);
+            Ok(0)
+        }
+        Command::Convert {
+            map,
+            scen,
+            agents,
+            out_map,
+            out_scen,
+        } => gen_cmd::convert(&map, scen.as_deref(), agents, &out_map, out_scen.as_deref()),
+    }
+}
+
+/// `mrpp bench merge`: rebuilds the sweep from the command its parts recorded, then joins them.
+fn merge(out: PathBuf, parts: Vec<PathBuf>) -> Result<u8, Fail> {
+    let manifest = mrpp_bench::harness::merged_manifest(&parts)?;
+    let argv = std::iter::once("mrpp".to_string()).chain(manifest.sweep_command());
+    let cli = Cli::try_parse_from(argv)
+        .map_err(|e| Fail(format!("the parts' command does not parse any more: {e}")))?;
+    let mode = sweeps::Mode::Merge {
+        parts,
+        manifest: Box::new(manifest),
+        out,
+    };
+    match cli.command {
+        Command::Experiment(e) => experiment::run(e, Some(mode)),
+        Command::Bench(bench::Bench::Run(a)) => bench::run(*a, Some(mode)),
+        _ => Err(Fail(
+            "the parts were not made by `mrpp experiment` or `mrpp bench run`".into(),
+        )),
+    }
+}

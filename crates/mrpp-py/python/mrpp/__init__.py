@@ -1,0 +1,241 @@
+"""mrpp: multi-robot path planning, from Python.
+
+The planners, loaders, validators and viewer are mrpp's Rust code (the ``mrpp`` command line's
+library); a plan made here equals ``mrpp solve``'s for the same files, planner, parameters and seed.
+
+    import mrpp
+    problem = mrpp.Problem.grid("random-32-32-20.map", "random-32-32-20-random-1.scen", agents=50)
+    result = mrpp.solve(problem, "lacam", seed=0, time_limit=10.0)
+    result.solved, result.metrics["sum_of_costs"], result.paths[0]   # paths: numpy arrays
+    mrpp.validate(problem, result)      # the validator's metrics, or MrppError naming the violation
+    mrpp.write_view(problem, result, "plan.html")   # the animated viewer page
+
+Families and their files (the command line's flags): grid MAPF (MovingAI ``.map``/``.scen``, the
+H* paper's maps and robot files, League of Robot Runners problem JSON), single-lane trees (tree
+instance JSON), formations (formation JSON over a polygon map) and continuous worlds (world JSON).
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+from dataclasses import dataclass, field
+from typing import Any, Dict, List, Mapping, Optional, Tuple, Union
+
+import numpy as np
+
+from . import _native
+from ._native import MrppError
+
+__all__ = [
+    "MrppError",
+    "Planner",
+    "Problem",
+    "Result",
+    "planners",
+    "solve",
+    "validate",
+    "view_html",
+    "write_view",
+    "__version__",
+]
+
+__version__: str = _native.__version__
+
+PathLike = Union[str, "os.PathLike[str]"]
+
+
+@dataclass(frozen=True)
+class Planner:
+    """One planner of mrpp's registry."""
+
+    family: str
+    """``grid``, ``trees``, ``formation`` or ``continuous``."""
+    name: str
+    about: str
+    """One line: what it is and its source (paper, section)."""
+    params: Dict[str, Tuple[str, str]]
+    """Parameter name -> (default, doc), as passed in ``solve(..., params={name: value})``."""
+
+
+def planners(family: Optional[str] = None) -> List[Planner]:
+    """Every planner (of ``family`` when given), in the order ``mrpp planners`` lists them."""
+    out = [
+        Planner(fam, name, about, {p: (default, doc) for p, default, doc in params})
+        for fam, name, about, params in _native.planners()
+    ]
+    if family is not None:
+        known = sorted({p.family for p in out})
+        if family not in known:
+            raise MrppError(f"unknown family {family!r} (known: {', '.join(known)})")
+        out = [p for p in out if p.family == family]
+    return out
+
+
+class Problem:
+    """A problem named by its input files; loading checks them (``MrppError`` names file, line
+    and rule). Build one with the class methods."""
+
+    family: str
+    summary: str
+    num_agents: int
+
+    def __init__(self, **inputs: Any) -> None:
+        self._inputs = {k: (os.fspath(v) if isinstance(v, os.PathLike) else v)
+                        for k, v in inputs.items() if v is not None and v is not False}
+        self._json = json.dumps(self._inputs)
+        self.family, self.summary, self.num_agents = _native.load(self._json)
+
+    @classmethod
+    def grid(cls, map: PathLike, scen: PathLike, agents: Optional[int] = None) -> "Problem":
+        """A grid problem: a MovingAI ``.map`` or H* paper map, and a ``.scen`` or H* robot file
+        (the first ``agents`` agents; all when None)."""
+        return cls(map=map, scen=scen, agents=agents)
+
+    @classmethod
+    def lorr(cls, problem: PathLike, agents: Optional[int] = None) -> "Problem":
+        """A League of Robot Runners problem JSON (2023 or 2026 start-kit layout) as a one-shot
+        grid instance: agent i's goal is the first errand of task i."""
+        return cls(lorr=problem, agents=agents)
+
+    @classmethod
+    def trees(cls, instance: PathLike, following: bool = True) -> "Problem":
+        """A single-lane tree instance JSON (``visit`` goals; ``following=False`` forbids
+        entering a node another robot leaves in the same step)."""
+        return cls(instance=instance, no_following=not following)
+
+    @classmethod
+    def formation(cls, path: PathLike) -> "Problem":
+        """A formation file JSON (polygon map, robots, start and goal, cost model)."""
+        return cls(formation=path)
+
+    @classmethod
+    def world(cls, path: PathLike) -> "Problem":
+        """A continuous world JSON (workspace, polygon obstacles, disc robots)."""
+        return cls(world=path)
+
+    def __repr__(self) -> str:
+        return f"Problem({self.family}: {self.summary})"
+
+
+@dataclass
+class Result:
+    """A planner run: the plan envelope (``mrpp-plan/1``) with its paths as numpy arrays."""
+
+    solved: bool
+    status: str
+    """``solved``, or why not (e.g. the time limit)."""
+    envelope: Dict[str, Any] = field(repr=False)
+    """The plan file's content, exactly what ``mrpp solve --out plan.json`` writes."""
+
+    @property
+    def planner(self) -> str:
+        return self.envelope.get("planner", "")
+
+    @property
+    def seed(self) -> int:
+        return int(self.envelope.get("seed", 0))
+
+    @property
+    def metrics(self) -> Optional[Dict[str, Any]]:
+        """The validator's metrics of a solved plan (e.g. ``sum_of_costs``, ``makespan``,
+        ``sum_of_moves`` on grids), None when not solved."""
+        return self.envelope.get("metrics")
+
+    @property
+    def runtime_ms(self) -> float:
+        return float(self.envelope.get("runtime_ms", 0.0))
+
+    @property
+    def paths(self) -> List[np.ndarray]:
+        """One array per agent, index = time step: shape (T, 2) int64 ``[x, y]`` cells on grids,
+        (T,) node ids on trees and formations, (T, 2) float64 points in continuous worlds.
+        Empty when not solved."""
+        agents = self.envelope.get("agents") or []
+        return [np.asarray(a.get("path") or []) for a in agents]
+
+    @property
+    def starts(self) -> np.ndarray:
+        return np.asarray([a["start"] for a in self.envelope.get("agents") or []])
+
+    @property
+    def goals(self) -> np.ndarray:
+        return np.asarray([a["goal"] for a in self.envelope.get("agents") or []])
+
+    def to_json(self) -> str:
+        """The plan envelope as JSON text."""
+        return json.dumps(self.envelope)
+
+    def save(self, path: PathLike) -> None:
+        """Writes the plan file (readable by ``mrpp validate/view/render``)."""
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(self.to_json())
+
+
+def solve(
+    problem: Problem,
+    planner: str,
+    params: Optional[Mapping[str, Any]] = None,
+    seed: int = 0,
+    time_limit: float = 60.0,
+) -> Result:
+    """Plans ``problem`` with ``planner`` (``planners()`` lists them with their ``params``),
+    ``seed`` and ``time_limit`` seconds. The GIL is released while planning. A solved plan has
+    passed the family's validator. Raises ``MrppError`` for an unknown planner or parameter,
+    a planner of another family, or a bad time limit."""
+    pairs = [(str(k), _param(v)) for k, v in (params or {}).items()]
+    if not isinstance(seed, int) or seed < 0:
+        raise MrppError(f"seed must be a non-negative integer, got {seed!r}")
+    solved, status, envelope = _native.solve(problem._json, planner, pairs, seed, float(time_limit))
+    return Result(solved, status, json.loads(envelope))
+
+
+def _param(v: Any) -> str:
+    if isinstance(v, bool):
+        return "true" if v else "false"
+    return str(v)
+
+
+class _PlanFile:
+    """A plan as a file path: a ``Result`` goes through ``plan.json`` in a temporary folder (the
+    name shows in the viewer's title)."""
+
+    def __init__(self, plan: Union[Result, PathLike]) -> None:
+        self._tmp: Optional[tempfile.TemporaryDirectory] = None
+        if isinstance(plan, Result):
+            self._tmp = tempfile.TemporaryDirectory(prefix="mrpp-")
+            self.path = os.path.join(self._tmp.name, "plan.json")
+            plan.save(self.path)
+        else:
+            self.path = os.fspath(plan)
+
+    def __enter__(self) -> str:
+        return self.path
+
+    def __exit__(self, *exc: Any) -> None:
+        if self._tmp is not None:
+            self._tmp.cleanup()
+
+
+def validate(problem: Problem, plan: Union[Result, PathLike]) -> Dict[str, Any]:
+    """Checks a plan (a ``Result`` or a plan file: envelope or LaCAM text) against ``problem``
+    with the family's validator, claimed metrics included. Returns the metrics; raises
+    ``MrppError`` naming the first violation (agents, cell or node, time step)."""
+    with _PlanFile(plan) as path:
+        _, metrics = _native.validate(problem._json, path)
+    return json.loads(metrics)
+
+
+def view_html(problem: Problem, plan: Union[Result, PathLike]) -> str:
+    """The viewer's self-contained HTML page (what ``mrpp view`` writes): play, pause, step,
+    scrub, the validator's first violation marked."""
+    with _PlanFile(plan) as path:
+        return _native.view_page(problem._json, path)
+
+
+def write_view(problem: Problem, plan: Union[Result, PathLike], out: PathLike) -> None:
+    """Writes ``view_html(problem, plan)`` to ``out``."""
+    html = view_html(problem, plan)
+    with open(out, "w", encoding="utf-8") as f:
+        f.write(html)
