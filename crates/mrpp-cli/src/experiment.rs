@@ -15,6 +15,7 @@ use mrpp_bench::papers::hbmo_navigation::{HbmoConfig, HbmoNavigation};
 use mrpp_bench::papers::hstar_instances::Scenario2Map;
 use mrpp_bench::papers::hstar_table2::{Table2, Table2Config, table2_methods};
 
+use crate::embedded::{self, data_dir};
 use crate::output::{Fail, seconds, time_limit};
 use crate::sweeps::{Mode, drive};
 
@@ -66,9 +67,10 @@ pub struct HbmoArgs {
     /// Wall-clock limit per run, in seconds.
     #[arg(long, default_value_t = 60.0)]
     time_limit: f64,
-    /// The folder of six-robots-four-obstacles.json.
-    #[arg(long, default_value = "data/continuous")]
-    data: PathBuf,
+    /// The folder of six-robots-four-obstacles.json (default: the copy embedded in mrpp, the
+    /// repository's data/continuous).
+    #[arg(long)]
+    data: Option<PathBuf>,
     #[arg(long, default_value = "out/hbmo")]
     out: PathBuf,
     /// Run only shard i of N (`i/N`); `mrpp bench merge` joins the parts.
@@ -92,9 +94,10 @@ pub struct GaFormationArgs {
     /// Wall-clock limit of the exact planner per configuration, in seconds.
     #[arg(long, default_value_t = 30.0)]
     exact_time_limit: f64,
-    /// The folder of the polygon maps (the three public maps and the gen-* stand-ins).
-    #[arg(long, default_value = "data/polygon-maps")]
-    data: PathBuf,
+    /// The folder of the polygon maps (default: the copy embedded in mrpp, the repository's
+    /// data/polygon-maps: the three public maps and the gen-* stand-ins).
+    #[arg(long)]
+    data: Option<PathBuf>,
     #[arg(long, default_value = "out/ga-formation")]
     out: PathBuf,
     /// Also write every plan as plans/<map>-<pair>-r<R>-<planner>.json (for
@@ -119,9 +122,10 @@ pub struct HstarTable2Args {
     /// Also write every solved plan as plans/<scenario>-<robots>-<planner>-<run>.json.
     #[arg(long)]
     save_plans: bool,
-    /// Directory holding scenario1/ .. scenario3/ and table2-paper.csv.
-    #[arg(long, default_value = "data/hstar-paper")]
-    data: PathBuf,
+    /// Directory holding scenario1/ .. scenario3/ and table2-paper.csv (default: the copy
+    /// embedded in mrpp, the repository's data/hstar-paper).
+    #[arg(long)]
+    data: Option<PathBuf>,
     #[arg(long, value_enum, default_value_t = Sc2Map::Open)]
     sc2_map: Sc2Map,
     /// Wall-clock limit of one run, in seconds.
@@ -255,7 +259,9 @@ pub fn run(cmd: Experiment, merge: Option<Mode>) -> Result<u8, Fail> {
                 time_limit: seconds("time-limit", a.time_limit)?,
             };
             let mode = merge.unwrap_or(Mode::run(a.shard, a.out.clone()));
-            drive(&HbmoNavigation::new(cfg, &a.data)?, &mode, a.seed, "runs")
+            let (data, _unpacked) = data_dir(a.data.clone(), &embedded::CONTINUOUS)?;
+            let experiment = HbmoNavigation::new(cfg, &data)?;
+            drive(&experiment, &mode, a.seed, "runs")
         }
     }
 }
@@ -277,8 +283,9 @@ fn ga_formation(a: &GaFormationArgs, merge: Option<Mode>) -> Result<u8, Fail> {
         ..FormationConfig::default()
     };
     let mode = merge.unwrap_or(Mode::run(a.shard, a.out.clone()));
+    let (data, _unpacked) = data_dir(a.data.clone(), &embedded::POLYGON_MAPS)?;
     drive(
-        &GaFormation::new(cfg, &a.data)?,
+        &GaFormation::new(cfg, &data)?,
         &mode,
         a.seed,
         "configurations",
@@ -294,10 +301,11 @@ fn hstar_table2(a: &HstarTable2Args) -> Result<Table2, Fail> {
         )));
     }
     let limit = time_limit(a.time_limit)?;
-    if !a.data.join("scenario1").is_dir() {
+    let (data, _unpacked) = data_dir(a.data.clone(), &embedded::HSTAR_PAPER)?;
+    if !data.join("scenario1").is_dir() {
         return Err(Fail(format!(
-            "{}: no scenario1/ here; pass --data with the directory of the H* paper's files (the repository's data/hstar-paper)",
-            a.data.display()
+            "{}: no scenario1/ here; pass --data with the directory of the H* paper's files (the repository's data/hstar-paper), or leave --data out to use the copy embedded in mrpp",
+            data.display()
         )));
     }
     let mut methods = table2_methods();
@@ -331,7 +339,7 @@ fn hstar_table2(a: &HstarTable2Args) -> Result<Table2, Fail> {
         time_limit: limit,
         save_plans: a.save_plans,
     };
-    Ok(Table2::new(cfg, &a.data)?)
+    Ok(Table2::new(cfg, &data)?)
 }
 
 /// Table 4 from its flags.

@@ -15,6 +15,7 @@ use clap::{Parser, Subcommand};
 pub mod api;
 mod bench;
 mod continuous_family;
+mod embedded;
 mod experiment;
 mod family;
 mod formation_family;
