@@ -13,12 +13,18 @@ use crate::sweeps::{Mode, drive};
 pub(crate) enum Bench {
     /// Run a sweep (or one shard of it): records.csv (one validated run per line), summary.md,
     /// manifest.json.
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp bench run --config bench/configs/example.toml -o out/bench\n  mrpp bench run -m data/movingai/random-32-32-20.map -i data/movingai/random-32-32-20-random-1.scen -N 10,20,40 --planners hstar,whca,lacam --runs 3 -t 10 -o out/sweep"
+    )]
     Run(Box<RunArgs>),
     /// Join the parts of a sharded sweep (`part-i-of-N.jsonl` in the given folders) into the
     /// files of the whole sweep; the sweep is rebuilt from the command its parts recorded.
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp bench merge -o out/bench out/part-1 out/part-2"
+    )]
     Merge {
         /// Where to write the merged files.
-        #[arg(long)]
+        #[arg(short = 'o', long)]
         out: PathBuf,
         /// Folders holding the parts.
         #[arg(required = true)]
@@ -32,13 +38,13 @@ pub(crate) struct RunArgs {
     #[arg(long, conflicts_with_all = ["map", "scen", "planners"])]
     config: Option<PathBuf>,
     /// Without --config: the map ...
-    #[arg(long, requires = "scen")]
+    #[arg(short = 'm', long, requires = "scen")]
     map: Option<PathBuf>,
     /// ... its scenario ...
-    #[arg(long, requires = "map")]
+    #[arg(short = 'i', long, requires = "map")]
     scen: Option<PathBuf>,
     /// ... agent counts (comma-separated; default all) ...
-    #[arg(long, value_delimiter = ',')]
+    #[arg(short = 'N', long, value_delimiter = ',')]
     agents: Vec<usize>,
     /// ... and planners (comma-separated registry names, default parameters).
     #[arg(long, value_delimiter = ',')]
@@ -47,10 +53,10 @@ pub(crate) struct RunArgs {
     #[arg(long, conflicts_with = "config")]
     runs: Option<usize>,
     /// Seconds per run (flags only; a config sets `time_limit`).
-    #[arg(long, conflicts_with = "config")]
+    #[arg(short = 't', long, conflicts_with = "config")]
     time_limit: Option<f64>,
     /// Seed (overrides the config's).
-    #[arg(long)]
+    #[arg(short = 's', long)]
     seed: Option<u64>,
     /// Run only shard i of N (`i/N`).
     #[arg(long)]
@@ -64,7 +70,7 @@ pub(crate) struct RunArgs {
     #[arg(long)]
     jobs: Option<usize>,
     /// Output folder. A folder holding an interrupted run of the same sweep resumes it.
-    #[arg(long, default_value = "out/bench")]
+    #[arg(short = 'o', long, default_value = "out/bench")]
     out: PathBuf,
 }
 

@@ -10,7 +10,7 @@ use mrpp_continuous::render::render_svg;
 use mrpp_continuous::{NavProblem, World};
 
 use crate::family::{Def, Inputs, Loaded, ReadPlan};
-use crate::output::{Fail, file_name};
+use crate::output::{Fail, file_name, out};
 
 /// The continuous family.
 pub(crate) static CONTINUOUS: Def<NavProblem> = Def {
@@ -77,7 +77,7 @@ fn read_plan(inputs: &Inputs, plan_path: &Path) -> Result<ReadPlan<NavProblem>, 
 fn info(inputs: &Inputs) -> Result<u8, Fail> {
     let (p, path) = world(inputs)?;
     let w = p.world();
-    println!(
+    out!(
         "world {} | workspace {:?} | obstacles {} | robots {} | epsilon {} | step limit {}",
         file_name(path),
         w.workspace,
@@ -89,9 +89,10 @@ fn info(inputs: &Inputs) -> Result<u8, Fail> {
     for (i, (r, ideal)) in w.robots.iter().zip(p.ideal()).enumerate() {
         let straight = mrpp_continuous::geometry::dist(r.start, r.goal);
         let ideal = ideal.map_or("unreachable".to_string(), |d| format!("{d:.2}"));
-        println!(
+        out!(
             "robot {i}: radius {} speed {} | straight {straight:.2} | ideal path {ideal}",
-            r.radius, r.speed
+            r.radius,
+            r.speed
         );
     }
     Ok(0)

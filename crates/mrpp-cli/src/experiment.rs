@@ -36,18 +36,36 @@ pub enum Fitness {
 #[derive(Subcommand)]
 pub enum Experiment {
     /// Table II of the H* paper: Enol2023, WHCA*, NSGA-III and H* on Table I's instances.
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp experiment hstar-table2 --runs 10 -o out/hstar-table2\n  mrpp experiment hstar-table2 --runs 10 --shard 1/4 -o out/part-1"
+    )]
     HstarTable2(HstarTable2Args),
     /// Table 3 of the GP paper: a program evolved per tree problem vs Push-Swap-Wait.
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp experiment gp-table3 --problems 10 -s 0 -o out/gp-table3\n  mrpp experiment gp-table3 --paper-settings --depths 4-7 --shard 3/100 -o out/part-3"
+    )]
     GpTable3(GpTable3Args),
     /// Table 4 of the GP paper: programs trained on |X| problems, tested on new ones, vs PSW.
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp experiment gp-table4 --problems 20 -o out/gp-table4"
+    )]
     GpTable4(GpTable4Args),
     /// Table 5 of the GP paper: % solved by GP and PSW with 0.25–1.5 × leaves robots.
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp experiment gp-table5 -o out/gp-table5"
+    )]
     GpTable5(GpTable5Args),
     /// The GA formation paper's Fig. 4: sequential and GA against the proven optimum on random
     /// configurations over 7 polygon maps.
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp experiment ga-formation --pairs 10 --robots 1,2,3 -o out/ga-formation"
+    )]
     GaFormation(GaFormationArgs),
     /// The HBMO navigation paper's Figs. 5–12: HBMO, DE, PSO and ORCA step by step on seeded
     /// continuous worlds (steps, ATPT, ATPD, AUTD, Mann–Whitney p-values).
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp experiment hbmo --runs 5 -o out/hbmo\n  mrpp experiment hbmo --runs 30 --planners hbmo,orca -p guide=goal -o out/hbmo-goal"
+    )]
     Hbmo(HbmoArgs),
 }
 
@@ -56,7 +74,7 @@ pub struct HbmoArgs {
     /// Runs per (world, method); the paper: 5 (use 30 for the significance tests).
     #[arg(long, default_value_t = 5)]
     runs: usize,
-    #[arg(long, default_value_t = 0)]
+    #[arg(short = 's', long, default_value_t = 0)]
     seed: u64,
     /// Methods (comma-separated registry names).
     #[arg(long, value_delimiter = ',', default_value = "hbmo,de,pso,orca")]
@@ -65,13 +83,13 @@ pub struct HbmoArgs {
     #[arg(short = 'p', long = "param", value_name = "KEY=VALUE")]
     params: Vec<String>,
     /// Wall-clock limit per run, in seconds.
-    #[arg(long, default_value_t = 60.0)]
+    #[arg(short = 't', long, default_value_t = 60.0)]
     time_limit: f64,
     /// The folder of six-robots-four-obstacles.json (default: the copy embedded in mrpp, the
     /// repository's data/continuous).
     #[arg(long)]
     data: Option<PathBuf>,
-    #[arg(long, default_value = "out/hbmo")]
+    #[arg(short = 'o', long, default_value = "out/hbmo")]
     out: PathBuf,
     /// Run only shard i of N (`i/N`); `mrpp bench merge` joins the parts.
     #[arg(long)]
@@ -86,7 +104,7 @@ pub struct GaFormationArgs {
     /// Formation sizes R (comma-separated).
     #[arg(long, value_delimiter = ',', default_value = "1,2,3")]
     robots: Vec<usize>,
-    #[arg(long, default_value_t = 0)]
+    #[arg(short = 's', long, default_value_t = 0)]
     seed: u64,
     /// The paper's scale: 95 pairs per map x 7 maps x R = 1..3.
     #[arg(long)]
@@ -98,7 +116,7 @@ pub struct GaFormationArgs {
     /// data/polygon-maps: the three public maps and the gen-* stand-ins).
     #[arg(long)]
     data: Option<PathBuf>,
-    #[arg(long, default_value = "out/ga-formation")]
+    #[arg(short = 'o', long, default_value = "out/ga-formation")]
     out: PathBuf,
     /// Also write every plan as plans/<map>-<pair>-r<R>-<planner>.json (for
     /// tools/check/formation.py, `mrpp validate` and `mrpp render`).
@@ -114,10 +132,10 @@ pub struct HstarTable2Args {
     /// Runs per (instance, method); the paper uses 10.
     #[arg(long, default_value_t = 10)]
     runs: usize,
-    #[arg(long, default_value_t = 0)]
+    #[arg(short = 's', long, default_value_t = 0)]
     seed: u64,
     /// Output directory (results.csv, table2.md, fig5.svg, plans/).
-    #[arg(long, default_value = "out/hstar-table2")]
+    #[arg(short = 'o', long, default_value = "out/hstar-table2")]
     out: PathBuf,
     /// Also write every solved plan as plans/<scenario>-<robots>-<planner>-<run>.json.
     #[arg(long)]
@@ -129,7 +147,7 @@ pub struct HstarTable2Args {
     #[arg(long, value_enum, default_value_t = Sc2Map::Open)]
     sc2_map: Sc2Map,
     /// Wall-clock limit of one run, in seconds.
-    #[arg(long, default_value_t = 30.0)]
+    #[arg(short = 't', long, default_value_t = 30.0)]
     time_limit: f64,
     /// Only these planners (comma-separated: coevolution, whca, nsga3, hstar).
     #[arg(long, value_delimiter = ',')]
@@ -149,7 +167,7 @@ pub struct GpCommon {
     /// (default 50, paper 100); Table 5 — problems per leaf multiplier (default 40, paper 200).
     #[arg(long)]
     problems: Option<usize>,
-    #[arg(long, default_value_t = 0)]
+    #[arg(short = 's', long, default_value_t = 0)]
     seed: u64,
     /// GP parameters; `--paper-settings` also sets the paper's problem counts (days of CPU time
     /// on 2 cores).
@@ -167,7 +185,7 @@ pub struct GpCommon {
     #[arg(long, value_parser = parse_depths)]
     depths: Option<RangeInclusive<u32>>,
     /// Output directory (default out/gp-tableN).
-    #[arg(long)]
+    #[arg(short = 'o', long)]
     out: Option<PathBuf>,
     /// Run only shard i of N (`i/N`); `mrpp bench merge` joins the parts.
     #[arg(long)]

@@ -16,7 +16,7 @@ use mrpp_core::mapf::plan_file::RunInfo;
 use mrpp_core::registry::find;
 use mrpp_core::{Ctx, Deadline, Params, PlannerEntry, Problem, Solved, Unsolved, solve};
 
-use crate::output::{Fail, metrics_object, pairs, time_limit, write_atomic};
+use crate::output::{Fail, detail, metrics_object, out, pairs, say, time_limit, write_atomic};
 use crate::progress;
 
 /// Every family the binary knows, in the order `mrpp planners` lists them.
@@ -37,13 +37,13 @@ pub(crate) static FAMILIES: &[&dyn Family] = &[
 #[derive(clap::Args, Debug, Clone, Default)]
 pub struct Inputs {
     /// Grid map: MovingAI `.map` or the H* paper's ASCII map (detected from the content).
-    #[arg(long)]
+    #[arg(short = 'm', long)]
     pub map: Option<PathBuf>,
     /// Grid agents: MovingAI `.scen` or an H* robot file `x,y;x,y` (detected from the content).
-    #[arg(long)]
+    #[arg(short = 'i', long)]
     pub scen: Option<PathBuf>,
     /// Use the first N agents of the scenario (default: all).
-    #[arg(long)]
+    #[arg(short = 'N', long)]
     pub agents: Option<usize>,
     /// Grid problem from the League of Robot Runners: its problem JSON (2023 or 2026 start-kit
     /// layout), read with its map, agents and tasks as a one-shot instance (goal = first task).
@@ -66,6 +66,28 @@ pub struct Inputs {
     /// Trees: forbid following (entering a node another robot leaves in the same step).
     #[arg(long)]
     pub no_following: bool,
+}
+
+impl Inputs {
+    /// The files given, as `--flag path` pairs (for `-v`).
+    pub(crate) fn files(&self) -> String {
+        let named = [
+            ("--map", &self.map),
+            ("--scen", &self.scen),
+            ("--lorr", &self.lorr),
+            ("--instance", &self.instance),
+            ("--formation", &self.formation),
+            ("--world", &self.world),
+        ];
+        let mut out: Vec<String> = named
+            .iter()
+            .filter_map(|(flag, p)| p.as_ref().map(|p| format!("{flag} {}", p.display())))
+            .collect();
+        if let Some(n) = self.agents {
+            out.push(format!("--agents {n}"));
+        }
+        out.join(" ")
+    }
 }
 
 /// Output format of `solve`.
@@ -299,7 +321,9 @@ fn run_planner<P: Problem + 'static>(
     })?;
     let params = Params::resolve(entry.name, entry.params, &req.params)?;
     let planner = (entry.build)(&params)?;
+    let load_started = Instant::now();
     let loaded = (def.load)(&req.inputs)?;
+    let load_ms = load_started.elapsed().as_secs_f64() * 1e3;
     let bar = if announce {
         progress::bar()
     } else {
@@ -310,7 +334,7 @@ fn run_planner<P: Problem + 'static>(
         ..Ctx::new(req.seed, Deadline::after(limit))
     };
     if announce {
-        println!(
+        say!(
             "mrpp {} | {} | family {} | planner {} | seed {} | {}",
             env!("CARGO_PKG_VERSION"),
             req.command,
@@ -318,6 +342,16 @@ fn run_planner<P: Problem + 'static>(
             entry.name,
             req.seed,
             loaded.summary
+        );
+        detail!(
+            "inputs: {} | parameters: {} | time limit {} s | loaded in {load_ms:.1} ms",
+            req.inputs.files(),
+            params
+                .iter()
+                .map(|(k, v)| format!("{k}={v}"))
+                .collect::<Vec<_>>()
+                .join(" "),
+            req.time_limit
         );
     }
     let started = Instant::now();
@@ -349,6 +383,11 @@ fn run_planner<P: Problem + 'static>(
 fn solve_with<P: Problem + 'static>(def: &Def<P>, req: &SolveRequest) -> Result<u8, Fail> {
     let run = run_planner(def, req, true)?;
     report(&run.outcome, run.runtime_ms, &run.planner, &run.notes)?;
+    detail!(
+        "{} notes: {}",
+        run.planner,
+        Value::Object(run.notes.clone())
+    );
     write_outputs(&run.loaded, req, run.info, &run.outcome, run.notes)?;
     Ok(if run.outcome.is_ok() { 0 } else { 3 })
 }
@@ -361,18 +400,18 @@ fn report<P: Problem>(
     notes: &Map<String, Value>,
 ) -> Result<(), Fail> {
     match outcome {
-        Ok(s) => println!(
+        Ok(s) => say!(
             "solved: {} | runtime {runtime_ms:.1} ms",
             pairs(&metrics_object(&s.metrics))
         ),
         Err(Unsolved::Invalid(why)) => {
             return Err(Fail(format!("invalid plan (a bug in mrpp): {why}")));
         }
-        Err(why) => println!("not solved: {why} | runtime {runtime_ms:.1} ms"),
+        Err(why) => say!("not solved: {why} | runtime {runtime_ms:.1} ms"),
     }
     let short = pairs(notes);
     if !short.is_empty() {
-        println!("{planner}: {short}");
+        say!("{planner}: {short}");
     }
     Ok(())
 }
@@ -392,14 +431,14 @@ fn write_outputs<P: Problem>(
     if let Some(out) = &req.out {
         let text = (loaded.write)(&loaded.problem, info, outcome, notes, req.format)?;
         write_atomic(out, &text)?;
-        println!("plan written to {}", out.display());
+        say!("plan written to {}", out.display());
     }
     match (&req.save_program, program) {
         (Some(path), Some(p)) => {
             write_atomic(path, format!("{p}\n"))?;
-            println!("program written to {}", path.display());
+            say!("program written to {}", path.display());
         }
-        (Some(path), None) => println!("no program made the plan: {} not written", path.display()),
+        (Some(path), None) => say!("no program made the plan: {} not written", path.display()),
         (None, _) => {}
     }
     Ok(())
@@ -448,7 +487,12 @@ fn validate_with<P: Problem + 'static>(
     plan_path: &Path,
 ) -> Result<u8, Fail> {
     let c = check_with(def, inputs, plan_path)?;
-    println!(
+    detail!(
+        "checked: every agent's path against the {} rules; the file's claimed metrics agree with \
+         the validator's",
+        def.name
+    );
+    say!(
         "valid: {} agents | {}{}",
         c.agents,
         pairs(&c.metrics),
@@ -475,10 +519,10 @@ pub(crate) fn list_planners(family: Option<&str>) -> Result<u8, Fail> {
         .filter(|x| family.is_none_or(|f| x.name() == f))
     {
         for (name, about, params) in fam.planners() {
-            println!("{name:<12} [{}] {about}", fam.name());
+            out!("{name:<12} [{}] {about}", fam.name());
             for p in params {
                 let kv = format!("{}={}", p.name, p.default);
-                println!("    -p {kv:<24} {}", p.doc);
+                out!("    -p {kv:<24} {}", p.doc);
             }
         }
     }

@@ -9,7 +9,7 @@ use mrpp_formation::world::{Formation, formation_envelope, read_formation_plan};
 use mrpp_formation::{FormationProblem, render::render_svg};
 
 use crate::family::{Def, Inputs, Loaded, ReadPlan};
-use crate::output::{Fail, file_name};
+use crate::output::{Fail, file_name, out};
 
 /// The formation family.
 pub(crate) static FORMATION: Def<FormationProblem> = Def {
@@ -84,7 +84,7 @@ fn info(inputs: &Inputs) -> Result<u8, Fail> {
         .iter()
         .filter(|e| mrpp_formation::cost::capacity(e, f.problem.radius()) < f.problem.robots())
         .count();
-    println!(
+    out!(
         "formation {} | map {} ({} obstacles) | robots {} | radius {}",
         file_name(path),
         file_name(&f.file.map),
@@ -92,7 +92,7 @@ fn info(inputs: &Inputs) -> Result<u8, Fail> {
         f.problem.robots(),
         f.problem.radius()
     );
-    println!(
+    out!(
         "roadmap: {} vertices, {} corridors ({narrow} narrower than the formation), {components} component(s), {cycles} independent cycle(s), built in {:.1} ms",
         r.num_vertices(),
         r.edges.len(),

@@ -11,25 +11,31 @@ use mrpp_formation::CostModel;
 use mrpp_formation::polymap::PolygonMap;
 use mrpp_formation::world::{Formation, FormationFile, random_pair};
 
-use crate::output::{Fail, file_name, write_atomic};
+use crate::output::{Fail, file_name, say, write_atomic};
 
 #[derive(clap::Subcommand)]
 pub(crate) enum Gen {
     /// A random MovingAI scenario on a grid map: --agents distinct starts and distinct goals drawn
     /// uniformly (seeded) from the map's largest connected area, e.g. 10,000 agents on
     /// warehouse-20-40-10-2-2.
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp gen scen -m data/movingai/random-32-32-20.map -N 100 -s 1 -o random-100.scen"
+    )]
     Scen {
-        #[arg(long)]
+        #[arg(short = 'm', long)]
         map: PathBuf,
-        #[arg(long)]
+        #[arg(short = 'N', long)]
         agents: usize,
-        #[arg(long, default_value_t = 0)]
+        #[arg(short = 's', long, default_value_t = 0)]
         seed: u64,
-        #[arg(long)]
+        #[arg(short = 'o', long)]
         out: PathBuf,
     },
     /// A random MovingAI grid map: --width x --height cells, each an obstacle with probability
     /// --obstacles (seeded), e.g. a 500 x 500 map for 10,000 agents.
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp gen map --width 64 --height 64 --obstacles 0.2 -s 0 -o random-64-64-20.map"
+    )]
     Map {
         #[arg(long)]
         width: usize,
@@ -38,30 +44,36 @@ pub(crate) enum Gen {
         /// Fraction of cells that are obstacles (0 to 0.9).
         #[arg(long, default_value_t = 0.1)]
         obstacles: f64,
-        #[arg(long, default_value_t = 0)]
+        #[arg(short = 's', long, default_value_t = 0)]
         seed: u64,
-        #[arg(long)]
+        #[arg(short = 'o', long)]
         out: PathBuf,
     },
     /// A seeded polygon world in the CTU text format (gen-dense, gen-staggered-brick-wall,
     /// gen-var-density, gen-var-density3); the file records its kind and seed.
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp gen polygon-map --kind gen-dense -s 0 -o dense.txt"
+    )]
     PolygonMap {
         #[arg(long)]
         kind: String,
-        #[arg(long)]
+        #[arg(short = 's', long)]
         seed: u64,
-        #[arg(long)]
+        #[arg(short = 'o', long)]
         out: PathBuf,
     },
     /// A formation file on a polygon map: R robots, random Q_ini and Q_goal in free space (at
     /// least half the map's diagonal apart), radius and cost model.
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp gen formation -m data/polygon-maps/potholes.txt --robots 3 -s 0 -o formation.json"
+    )]
     Formation {
         /// The polygon map (recorded relative to the output file's folder when possible).
-        #[arg(long)]
+        #[arg(short = 'm', long)]
         map: PathBuf,
         #[arg(long)]
         robots: usize,
-        #[arg(long)]
+        #[arg(short = 's', long)]
         seed: u64,
         #[arg(long, default_value_t = 0.3)]
         radius: f64,
@@ -70,12 +82,15 @@ pub(crate) enum Gen {
         cost: String,
         #[arg(long, default_value_t = 0.5)]
         kappa: f64,
-        #[arg(long)]
+        #[arg(short = 'o', long)]
         out: PathBuf,
     },
     /// A continuous world (JSON): `random` (the HBMO paper's setting: a 500 x 400 workspace,
     /// --obstacles polygons of different shapes, --robots discs of radius 6 and speed 16) or
     /// `circle` (RVO2's circle: --robots discs on a circle of radius --ring, each to its antipode).
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp gen continuous --kind random --robots 10 --obstacles 5 -s 0 -o world.json\n  mrpp gen continuous --kind circle --robots 16 -o circle.json"
+    )]
     Continuous {
         #[arg(long, default_value = "random")]
         kind: String,
@@ -84,7 +99,7 @@ pub(crate) enum Gen {
         /// Obstacles of a random world.
         #[arg(long, default_value_t = 4)]
         obstacles: usize,
-        #[arg(long, default_value_t = 0)]
+        #[arg(short = 's', long, default_value_t = 0)]
         seed: u64,
         /// Circle: radius of the ring.
         #[arg(long, default_value_t = 200.0)]
@@ -95,7 +110,7 @@ pub(crate) enum Gen {
         /// Circle: robot speed per step.
         #[arg(long, default_value_t = 8.0)]
         speed: f64,
-        #[arg(long)]
+        #[arg(short = 'o', long)]
         out: PathBuf,
     },
 }
@@ -115,7 +130,7 @@ pub(crate) fn run(cmd: Gen) -> Result<u8, Fail> {
                 &out,
                 mrpp_grid::scen::scen_text(&grid, &file_name(&map), &inst),
             )?;
-            println!(
+            say!(
                 "mrpp {} | gen scen | map {} | agents {agents} | seed {seed} | written to {}",
                 env!("CARGO_PKG_VERSION"),
                 file_name(&map),
@@ -133,7 +148,7 @@ pub(crate) fn run(cmd: Gen) -> Result<u8, Fail> {
             let text = mrpp_grid::scen::random_map_text(width, height, obstacles, seed)
                 .map_err(|e| Fail(format!("gen map: {e}")))?;
             write_atomic(&out, text)?;
-            println!(
+            say!(
                 "mrpp {} | gen map | {width} x {height} | obstacles {obstacles} | seed {seed} | written to {}",
                 env!("CARGO_PKG_VERSION"),
                 out.display()
@@ -153,7 +168,7 @@ pub(crate) fn run(cmd: Gen) -> Result<u8, Fail> {
         Gen::PolygonMap { kind, seed, out } => {
             let text = mrpp_formation::generator::generate(&kind, seed).map_err(Fail)?;
             write_atomic(&out, &text)?;
-            println!(
+            say!(
                 "mrpp {} | gen polygon-map | {kind} | seed {seed} | written to {}",
                 env!("CARGO_PKG_VERSION"),
                 out.display()
@@ -199,7 +214,7 @@ pub(crate) fn run(cmd: Gen) -> Result<u8, Fail> {
             Formation::on(resolved, polygons, &out)?;
             let text = serde_json::to_string_pretty(&file).map_err(|e| Fail(e.to_string()))? + "\n";
             write_atomic(&out, &text)?;
-            println!(
+            say!(
                 "mrpp {} | gen formation | map {} | robots {robots} | seed {seed} | start {start:?} | goal {goal:?} | written to {}",
                 env!("CARGO_PKG_VERSION"),
                 file_name(&map),
@@ -276,7 +291,7 @@ fn continuous(
     ));
     let text = serde_json::to_string_pretty(&world).map_err(|e| Fail(e.to_string()))?;
     write_atomic(out, &(text + "\n"))?;
-    println!(
+    say!(
         "mrpp {} | gen continuous | {what} | written to {}",
         env!("CARGO_PKG_VERSION"),
         out.display()
@@ -327,7 +342,7 @@ pub(crate) fn convert(
     if let (Some(text), Some(out)) = (scen_text, out_scen) {
         write_atomic(out, text)?;
     }
-    println!(
+    say!(
         "mrpp {} | convert | map {} {}x{} -> {}{}",
         env!("CARGO_PKG_VERSION"),
         file_name(map),

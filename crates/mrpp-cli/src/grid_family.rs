@@ -15,7 +15,7 @@ use mrpp_grid::io::plan_json::{grid_envelope, read_grid_plan};
 use mrpp_grid::io::render::render_svg;
 
 use crate::family::{Def, Format, Inputs, Loaded, Outcome, ReadPlan};
-use crate::output::{Fail, file_name};
+use crate::output::{Fail, file_name, out};
 
 /// The grid family.
 pub(crate) static GRID: Def<MapfProblem> = def();
@@ -224,7 +224,7 @@ fn info(inputs: &Inputs) -> Result<u8, Fail> {
             g.label(inst.starts[i])
         ))
     })?;
-    println!(
+    out!(
         "map {} {}x{} | free cells {} | corridor-compressed nodes {} | agents {}",
         file_name(&map_path),
         map.width(),
@@ -233,7 +233,7 @@ fn info(inputs: &Inputs) -> Result<u8, Fail> {
         corridors.num_nodes(),
         inst.num_agents()
     );
-    println!("lower bounds: sum_of_costs >= {sum} | makespan >= {max}");
+    out!("lower bounds: sum_of_costs >= {sum} | makespan >= {max}");
     Ok(0)
 }
 

@@ -45,14 +45,28 @@ use output::Fail;
 struct Cli {
     #[command(subcommand)]
     command: Command,
+    /// Print only errors (and what `planners`, `info` and `completions` exist to print); the
+    /// exit code still tells the outcome.
+    #[arg(short, long, global = true, conflicts_with = "verbose")]
+    quiet: bool,
+    /// Print more: the resolved planner parameters, load time and the planner's full notes
+    /// (`solve`), the claims checked (`validate`), one line per finished job (sweeps).
+    #[arg(short, long, global = true, action = clap::ArgAction::Count)]
+    verbose: u8,
 }
 
 #[derive(Subcommand)]
 enum Command {
     /// Plan paths for a problem of any family (the planner names the family; see `mrpp planners`).
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp solve -m data/movingai/random-32-32-20.map -i data/movingai/random-32-32-20-random-1.scen -N 100 -P lacam -o plan.json\n  mrpp solve --lorr data/robot-runners/lorr2026-maze/maze-example_40.json -P lacam -p anytime=true -t 10 -o plan.json\n  mrpp solve --world data/continuous/six-robots-four-obstacles.json -P hbmo -s 1 -o plan.json"
+    )]
     Solve(SolveArgs),
     /// Check a plan (the mrpp plan envelope, or LaCAM text on grids): exit 0 when valid, 1 naming
     /// the first violation.
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp validate -m data/movingai/random-32-32-20.map --plan plan.json\n  mrpp validate -m data/movingai/random-32-32-20.map -i data/movingai/random-32-32-20-random-1.scen --plan plan.txt"
+    )]
     Validate {
         #[command(flatten)]
         inputs: Inputs,
@@ -60,6 +74,7 @@ enum Command {
         plan: PathBuf,
     },
     /// List the planners of every family (or of one) with their parameters.
+    #[command(after_help = "Examples (from the repository's root):\n  mrpp planners --family grid")]
     Planners {
         /// Only this family (grid, trees).
         #[arg(long)]
@@ -67,28 +82,39 @@ enum Command {
     },
     /// Describe an instance: map size, free cells, corridor nodes, and lower bounds on any valid
     /// plan's sum of costs and makespan (each agent's shortest distance, ignoring the others).
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp info -m data/movingai/random-32-32-20.map -i data/movingai/random-32-32-20-random-1.scen -N 100\n  mrpp info --world data/continuous/six-robots-four-obstacles.json"
+    )]
     Info {
         #[command(flatten)]
         inputs: Inputs,
     },
     /// Reproduce a paper's table (see docs/reproduction/); `--shard i/N` runs one part.
     #[command(subcommand)]
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp experiment hstar-table2 --runs 10 -o out/hstar-table2\n  mrpp experiment hbmo --runs 5 -o out/hbmo"
+    )]
     Experiment(experiment::Experiment),
     /// Benchmark sweeps: `bench run` (TOML config or flags, `--shard i/N`), `bench merge`.
     #[command(subcommand)]
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp bench run --config bench/configs/example.toml -o out/bench"
+    )]
     Bench(bench::Bench),
     /// Write a grid map (MovingAI or the H* paper's text format) as a MovingAI `.map`, and with
     /// --scen its agents as a MovingAI `.scen`, so any MovingAI tool (e.g. the MAPF visualizer)
-    /// reads them. Example: `mrpp convert --map data/hstar-paper/scenario3/scenery_warehouse.txt
-    /// --scen data/hstar-paper/scenario3/30warehouse --out-map warehouse.map --out-scen warehouse-30.scen`.
+    /// reads them.
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp convert -m data/hstar-paper/scenario3/scenery_warehouse.txt -i data/hstar-paper/scenario3/30warehouse --out-map warehouse.map --out-scen warehouse-30.scen"
+    )]
     Convert {
-        #[arg(long)]
+        #[arg(short = 'm', long)]
         map: PathBuf,
         /// Agents to write as `.scen` (MovingAI `.scen` or the H* paper's robot file).
-        #[arg(long)]
+        #[arg(short = 'i', long)]
         scen: Option<PathBuf>,
         /// Only the first N agents.
-        #[arg(long)]
+        #[arg(short = 'N', long)]
         agents: Option<usize>,
         #[arg(long)]
         out_map: PathBuf,
@@ -96,27 +122,37 @@ enum Command {
         #[arg(long)]
         out_scen: Option<PathBuf>,
     },
-    /// Print a shell completion script. Example (bash):
-    /// `mrpp completions bash > ~/.local/share/bash-completion/completions/mrpp`.
+    /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp completions bash > ~/.local/share/bash-completion/completions/mrpp\n  mrpp completions zsh > ~/.zfunc/_mrpp"
+    )]
     Completions {
         /// bash, zsh, fish, elvish or powershell.
         shell: clap_complete::Shell,
     },
     /// Problem files from seeds: random grid maps and scenarios, polygon worlds, formation files.
     #[command(subcommand)]
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp gen scen -m data/movingai/random-32-32-20.map -N 100 -s 1 -o random-100.scen"
+    )]
     Gen(gen_cmd::Gen),
     /// Single-lane tree problems: generate, solve (PSW or GP), run a GP program, validate.
     #[command(subcommand)]
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp trees solve --instance data/trees/example.json -P psw -o plan.json"
+    )]
     Trees(tree_family::Trees),
     /// Watch a plan: one self-contained HTML page (play, step, scrub, zoom), written to --out
     /// (default: the plan's name with .html) or served on 127.0.0.1 with --serve.
-    /// Example: `mrpp view --map data/movingai/random-32-32-20.map --plan plan.json --out plan.html`.
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp view -m data/movingai/random-32-32-20.map --plan plan.json -o plan.html\n  mrpp view -m data/movingai/random-32-32-20.map --plan plan.json --serve --port 8000"
+    )]
     View {
         #[command(flatten)]
         inputs: Inputs,
         #[arg(long)]
         plan: PathBuf,
-        #[arg(long)]
+        #[arg(short = 'o', long)]
         out: Option<PathBuf>,
         /// Serve the page on 127.0.0.1 (the address is printed) until interrupted.
         #[arg(long)]
@@ -126,13 +162,16 @@ enum Command {
         port: u16,
     },
     /// Draw a plan (map, starts, goals, paths) as an SVG picture.
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp render -m data/movingai/random-32-32-20.map --plan plan.json -o plan.png\n  mrpp render -m data/movingai/random-32-32-20.map --plan plan.json -o plan.gif"
+    )]
     Render {
         #[command(flatten)]
         inputs: Inputs,
         #[arg(long)]
         plan: PathBuf,
         /// The picture, by extension: .svg, .png, or .gif (animated, one frame per step).
-        #[arg(long)]
+        #[arg(short = 'o', long)]
         out: PathBuf,
         /// An animated GIF (the same as an --out ending in .gif, which it requires).
         #[arg(long)]
@@ -146,16 +185,21 @@ struct SolveArgs {
     inputs: Inputs,
     /// Planner (`mrpp planners` lists them): hstar, ca, hca, whca, coevolution, nsga3, pibt, lacam,
     /// cbs, eecbs, psw, gp, sequential, ga, exact, hbmo, de, pso, orca.
-    #[arg(long)]
+    #[arg(short = 'P', long)]
     planner: String,
     /// Planner parameter `key=value`, repeatable (unknown keys are refused with the valid ones).
     #[arg(short = 'p', long = "param", value_name = "KEY=VALUE")]
     params: Vec<String>,
     /// Seed of every random choice.
-    #[arg(long, default_value_t = 0)]
+    #[arg(short = 's', long, default_value_t = 0)]
     seed: u64,
     /// Wall-clock limit in seconds.
-    #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
+    #[arg(
+        short = 't',
+        long,
+        default_value_t = 60.0,
+        allow_negative_numbers = true
+    )]
     time_limit: f64,
     /// Same as `-p window=W` (WHCA*).
     #[arg(long)]
@@ -164,7 +208,7 @@ struct SolveArgs {
     #[arg(long)]
     variant: Option<String>,
     /// Write the plan here (also written when not solved, with "solved": false).
-    #[arg(long)]
+    #[arg(short = 'o', long)]
     out: Option<PathBuf>,
     /// Write a program the planner made (GP) here.
     #[arg(long)]
@@ -216,6 +260,7 @@ pub fn main() -> ExitCode {
             return ExitCode::from(code);
         }
     };
+    output::set_verbosity(cli.quiet, cli.verbose);
     match run(cli.command) {
         Ok(code) => ExitCode::from(code),
         Err(Fail(msg)) => {
@@ -285,5 +330,77 @@ fn merge(out: PathBuf, parts: Vec<PathBuf>) -> Result<u8, Fail> {
         _ => Err(Fail(
             "the parts were not made by `mrpp experiment` or `mrpp bench run`".into(),
         )),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clap::CommandFactory;
+
+    /// Every subcommand's `--help` ends with examples, and every example parses (a shell
+    /// redirection `> file` is cut off first): the examples cannot rot as flags change.
+    #[test]
+    fn every_subcommand_has_examples_that_parse() {
+        Cli::command().debug_assert();
+        fn walk(cmd: &clap::Command, path: &str, seen: &mut usize) {
+            for sub in cmd.get_subcommands().filter(|s| s.get_name() != "help") {
+                let name = format!("{path} {}", sub.get_name());
+                let help = sub
+                    .get_after_help()
+                    .map(|h| h.to_string())
+                    .unwrap_or_default();
+                assert!(help.starts_with("Examples"), "`{name}` has no examples");
+                let examples: Vec<&str> = help
+                    .lines()
+                    .filter_map(|l| l.strip_prefix("  mrpp "))
+                    .collect();
+                assert!(!examples.is_empty(), "`{name}`: no example lines");
+                for ex in examples {
+                    let ex = ex.split(" > ").next().unwrap_or(ex);
+                    let args = std::iter::once("mrpp").chain(ex.split_whitespace());
+                    if let Err(e) = Cli::try_parse_from(args) {
+                        panic!("`{name}`: example `mrpp {ex}` does not parse: {e}");
+                    }
+                    assert!(
+                        ex.starts_with(name.trim_start()),
+                        "`{name}`: example `mrpp {ex}` runs another command"
+                    );
+                    *seen += 1;
+                }
+                walk(sub, &name, seen);
+            }
+        }
+        let mut seen = 0;
+        walk(&Cli::command(), "", &mut seen);
+        assert!(seen >= 30, "{seen} examples");
+    }
+
+    /// The short flags of the common options, as lacam3 spells them where it has them.
+    #[test]
+    fn short_flags_of_the_common_options() {
+        let cli = Cli::try_parse_from(
+            "mrpp solve -m a.map -i a.scen -N 5 -P lacam -s 7 -t 2.5 -o p.json -q".split(' '),
+        )
+        .unwrap_or_else(|e| panic!("{e}"));
+        assert!(cli.quiet && cli.verbose == 0);
+        let Command::Solve(a) = cli.command else {
+            panic!("not solve")
+        };
+        assert_eq!(a.inputs.map.as_deref(), Some(std::path::Path::new("a.map")));
+        assert_eq!(
+            a.inputs.scen.as_deref(),
+            Some(std::path::Path::new("a.scen"))
+        );
+        assert_eq!(a.inputs.agents, Some(5));
+        assert_eq!(
+            (a.planner.as_str(), a.seed, a.time_limit),
+            ("lacam", 7, 2.5)
+        );
+        assert_eq!(a.out.as_deref(), Some(std::path::Path::new("p.json")));
+        let cli =
+            Cli::try_parse_from("mrpp -vv planners".split(' ')).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(cli.verbose, 2);
+        assert!(Cli::try_parse_from("mrpp solve -q -v -P lacam".split(' ')).is_err());
     }
 }

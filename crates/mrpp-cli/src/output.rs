@@ -6,6 +6,51 @@ use std::time::Duration;
 
 use serde_json::{Map, Value};
 
+/// How much commands print: 0 = `--quiet` (errors only, on stderr, and what a command exists to
+/// print: `planners`, `info`, `completions`), 1 = the default summaries, 2 and more = `-v`.
+static VERBOSITY: std::sync::atomic::AtomicU8 = std::sync::atomic::AtomicU8::new(1);
+
+/// Sets the level from `--quiet` and the number of `-v`.
+pub(crate) fn set_verbosity(quiet: bool, verbose: u8) {
+    let level = if quiet { 0 } else { 1 + verbose.min(2) };
+    VERBOSITY.store(level, std::sync::atomic::Ordering::Relaxed);
+}
+
+/// The level [`set_verbosity`] set (1 when it was not called).
+pub(crate) fn verbosity() -> u8 {
+    VERBOSITY.load(std::sync::atomic::Ordering::Relaxed)
+}
+
+/// One line on stdout, always: what a command exists to print (`planners`, `info`). A closed
+/// stdout (`mrpp planners | head`) is not an error: the command still finishes its work.
+macro_rules! out {
+    ($($t:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout().lock(), $($t)*);
+    }};
+}
+pub(crate) use out;
+
+/// One line on stdout unless `--quiet`: the summaries and "written to" lines of every command.
+macro_rules! say {
+    ($($t:tt)*) => {
+        if $crate::output::verbosity() >= 1 {
+            $crate::output::out!($($t)*);
+        }
+    };
+}
+pub(crate) use say;
+
+/// One line on stdout with `-v` only: resolved parameters, load times, a planner's full notes.
+macro_rules! detail {
+    ($($t:tt)*) => {
+        if $crate::output::verbosity() >= 2 {
+            $crate::output::out!($($t)*);
+        }
+    };
+}
+pub(crate) use detail;
+
 /// A failure that ends the command with exit code 1 and one message.
 pub(crate) struct Fail(pub(crate) String);
 

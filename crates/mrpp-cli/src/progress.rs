@@ -9,6 +9,9 @@ use mrpp_core::{Progress, ProgressFn};
 
 /// A bar with no length yet (set by the first report).
 pub(crate) fn bar() -> ProgressBar {
+    if crate::output::verbosity() == 0 {
+        return ProgressBar::hidden();
+    }
     let bar = ProgressBar::new(0);
     bar.set_style(
         ProgressStyle::with_template(
@@ -45,7 +48,11 @@ pub(crate) struct Jobs {
 
 impl Jobs {
     pub(crate) fn new(len: usize, unit: &'static str) -> Self {
-        let bar = ProgressBar::new(len as u64);
+        let bar = if crate::output::verbosity() == 0 {
+            ProgressBar::hidden()
+        } else {
+            ProgressBar::new(len as u64)
+        };
         bar.set_style(
             ProgressStyle::with_template(&format!(
                 "{{bar:40}} {{pos}}/{{len}} {unit}  {{elapsed_precise}} (eta {{eta}})  {{msg}}"
@@ -54,7 +61,8 @@ impl Jobs {
         );
         Jobs {
             bar,
-            plain: !std::io::IsTerminal::is_terminal(&std::io::stderr()),
+            plain: !std::io::IsTerminal::is_terminal(&std::io::stderr())
+                || crate::output::verbosity() >= 2,
             len,
             unit,
             done: std::sync::atomic::AtomicUsize::new(0),
@@ -65,6 +73,9 @@ impl Jobs {
     /// One job finished (`key` names it).
     pub(crate) fn tick(&self, key: &str) {
         let k = self.done.fetch_add(1, std::sync::atomic::Ordering::Relaxed) + 1;
+        if crate::output::verbosity() == 0 {
+            return;
+        }
         if self.plain {
             eprintln!(
                 "[{:.0} s] {k}/{} {}: {key}",

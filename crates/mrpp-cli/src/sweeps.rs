@@ -10,7 +10,7 @@ use mrpp_bench::harness::{
 };
 use mrpp_bench::{Shard, Sweep};
 
-use crate::output::{Fail, write_atomic};
+use crate::output::{Fail, say, write_atomic};
 use crate::progress::Jobs;
 
 /// Run the whole sweep or one shard, or merge parts; every mode writes into `out`.
@@ -55,7 +55,7 @@ pub(crate) fn drive<S: Sweep>(
             out,
         } => {
             let rows = merge_parts(sweep, parts)?;
-            println!(
+            say!(
                 "mrpp {} | merged {} jobs of {} from {} folder(s)",
                 env!("CARGO_PKG_VERSION"),
                 rows.len(),
@@ -69,7 +69,7 @@ pub(crate) fn drive<S: Sweep>(
     write_files(out, &files)?;
     if shard.is_all() {
         let in_order: Vec<&S::Row> = rows.iter().map(|(_, r)| r).collect();
-        println!("{}", sweep.summary(&in_order));
+        say!("{}", sweep.summary(&in_order));
     }
     let names: Vec<&str> = files
         .iter()
@@ -82,7 +82,7 @@ pub(crate) fn drive<S: Sweep>(
     } else {
         String::new()
     };
-    println!("wrote {}/{{{}}}{extra}", out.display(), names.join(", "));
+    say!("wrote {}/{{{}}}{extra}", out.display(), names.join(", "));
     Ok(0)
 }
 
@@ -111,14 +111,14 @@ fn run_jobs<S: Sweep>(
         .open(&progress)
         .map_err(|e| Fail(format!("{}: cannot write: {e}", progress.display())))?;
     let log = std::sync::Mutex::new(log);
-    println!(
+    say!(
         "mrpp {} | {} | seed {seed} | {total} jobs | shard {shard}: {mine} jobs | threads {}",
         env!("CARGO_PKG_VERSION"),
         sweep.name(),
         threads()
     );
     if !previous.is_empty() {
-        println!(
+        say!(
             "resuming: {} of {mine} jobs already done in {}",
             previous.len(),
             progress.display()

@@ -13,7 +13,7 @@ use mrpp_trees::plan_json::{read_tree_plan, tree_envelope};
 use mrpp_trees::{ProblemSpec, RobotCount, TreeInstance, generate_problem, tree_problem};
 
 use crate::family::{Def, Format, Inputs, Loaded, ReadPlan, SolveRequest};
-use crate::output::{Fail, file_name, write_atomic};
+use crate::output::{Fail, file_name, say, write_atomic};
 
 /// Largest depth budget `trees gen` accepts (the paper uses 4–10).
 const MAX_DEPTH: u32 = 30;
@@ -93,9 +93,12 @@ fn read_plan(inputs: &Inputs, plan_path: &Path) -> Result<ReadPlan<MapfProblem>,
 #[derive(Subcommand)]
 pub(crate) enum Trees {
     /// Generate a random tree problem (the paper's Algorithm 2 and random robots) as JSON.
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp trees gen -s 0 --depth 5 --robots 8 -o tree.json"
+    )]
     Gen {
         /// Seed of the random stream (the same seed and parameters give the same file).
-        #[arg(long)]
+        #[arg(short = 's', long)]
         seed: u64,
         /// Depth budget, Algorithm 2's "seed" (paper: 4–10; at most 30).
         #[arg(long)]
@@ -115,24 +118,32 @@ pub(crate) enum Trees {
         #[arg(long, default_value_t = 100_000)]
         max_nodes: usize,
         /// Write the instance here.
-        #[arg(long)]
+        #[arg(short = 'o', long)]
         out: PathBuf,
     },
     /// Solve a tree instance with PSW or GP and write the plan (same as `mrpp solve --instance`).
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp trees solve --instance data/trees/example.json -P psw -o plan.json\n  mrpp trees solve --instance data/trees/example.json -P gp -s 1 --save-program best.gp -o plan.json"
+    )]
     Solve {
         #[arg(long)]
         instance: PathBuf,
         /// psw (Push-Swap-Wait) or gp (evolve a program for this instance).
-        #[arg(long, value_enum)]
+        #[arg(short = 'P', long, value_enum)]
         planner: TreePlanner,
         /// With --planner gp: run this saved program instead of evolving one (`-p program=P`).
         #[arg(long)]
         program: Option<PathBuf>,
         /// Seed of the GP evolution (PSW is deterministic; the seed is only recorded).
-        #[arg(long, default_value_t = 0)]
+        #[arg(short = 's', long, default_value_t = 0)]
         seed: u64,
         /// Wall-clock limit in seconds.
-        #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
+        #[arg(
+            short = 't',
+            long,
+            default_value_t = 60.0,
+            allow_negative_numbers = true
+        )]
         time_limit: f64,
         /// Forbid following (entering a node that another robot leaves in the same step).
         #[arg(long)]
@@ -146,24 +157,35 @@ pub(crate) enum Trees {
         #[arg(short = 'p', long = "param", value_name = "KEY=VALUE")]
         params: Vec<String>,
         /// Write the plan here (also written when not solved, with "solved": false).
-        #[arg(long)]
+        #[arg(short = 'o', long)]
         out: Option<PathBuf>,
     },
     /// Run a saved GP program on a tree instance and write its plan (`--planner gp -p program=P`).
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp trees run --program data/trees/example-program.gp --instance data/trees/example.json -o plan.json"
+    )]
     Run {
         /// GP program file (S-expression, as written by `trees solve --save-program`).
         #[arg(long)]
         program: PathBuf,
         #[arg(long)]
         instance: PathBuf,
-        #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
+        #[arg(
+            short = 't',
+            long,
+            default_value_t = 60.0,
+            allow_negative_numbers = true
+        )]
         time_limit: f64,
         #[arg(long)]
         no_following: bool,
-        #[arg(long)]
+        #[arg(short = 'o', long)]
         out: Option<PathBuf>,
     },
     /// Check a tree plan against its instance: exit 0 when valid, 1 naming the first violation.
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp trees validate --instance data/trees/example.json --plan plan.json"
+    )]
     Validate {
         #[arg(long)]
         instance: PathBuf,
@@ -423,7 +445,7 @@ fn cmd_gen(
     }
     write_atomic(out, tree.to_json())?;
     let branches = (0..n as u32).filter(|&v| tree.graph.degree(v) >= 3).count();
-    println!(
+    say!(
         "mrpp {} | trees gen | seed {seed} | depth {depth} | branching {branching} | nodes {n} | \
          leaves {} | branch nodes {branches} | robots {} | written to {}",
         env!("CARGO_PKG_VERSION"),

@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use crate::family::{Inputs, SolveRequest, family_of_inputs, family_of_planner};
-use crate::output::{Fail, write_atomic};
+use crate::output::{Fail, say, write_atomic};
 
 /// `mrpp solve`: plans, exit 0 solved (a valid plan), 3 not solved, 1 bad input or an invalid
 /// plan (a bug).
@@ -71,6 +71,6 @@ pub(crate) fn render(inputs: &Inputs, plan: &Path, out: &Path, gif: bool) -> Res
             )));
         }
     }
-    println!("picture written to {}", out.display());
+    say!("picture written to {}", out.display());
     Ok(0)
 }

@@ -23,7 +23,7 @@ use std::net::TcpListener;
 use std::path::{Path, PathBuf};
 
 use crate::family::{Inputs, family_of_inputs};
-use crate::output::{Fail, write_atomic};
+use crate::output::{Fail, out, say, write_atomic};
 
 /// The page, with `__MRPP_SCENE__` where the scene goes.
 const PAGE: &str = include_str!("../assets/view.html");
@@ -55,7 +55,7 @@ pub(crate) fn view(
             )));
         }
         write_atomic(&out, &html)?;
-        println!("viewer written to {} (open it in a browser)", out.display());
+        say!("viewer written to {} (open it in a browser)", out.display());
     }
     if serve {
         let listener = TcpListener::bind(("127.0.0.1", port))
@@ -63,7 +63,7 @@ pub(crate) fn view(
         let addr = listener
             .local_addr()
             .map_err(|e| Fail(format!("cannot read the listening address: {e}")))?;
-        println!("serving the viewer on http://{addr}/ (Ctrl-C stops)");
+        out!("serving the viewer on http://{addr}/ (Ctrl-C stops)");
         let _ = std::io::stdout().flush();
         for stream in listener.incoming() {
             let Ok(mut s) = stream else { continue };

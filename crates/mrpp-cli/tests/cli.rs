@@ -1041,3 +1041,45 @@ fn robot_runners_problems_solve_with_plans_both_checkers_accept() {
         "{err}"
     );
 }
+
+/// `-q` prints nothing on success (exit code and files only; errors still go to stderr), `-v`
+/// adds the resolved parameters and the planner's notes; short flags work end to end.
+#[test]
+fn quiet_and_verbose_levels() {
+    let plan = tmp("quiet.json");
+    let (m, i) = (
+        data("movingai/random-32-32-20.map"),
+        data("movingai/random-32-32-20-random-1.scen"),
+    );
+    let args = |level: &str| -> Vec<String> {
+        let mut v: Vec<String> = ["solve", "-m", &m, "-i", &i, "-N", "20", "-P", "lacam"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        v.extend(["-o".into(), plan.to_string_lossy().into_owned()]);
+        if !level.is_empty() {
+            v.push(level.into());
+        }
+        v
+    };
+    let run = |level: &str| {
+        let a = args(level);
+        let o = mrpp(&a.iter().map(String::as_str).collect::<Vec<_>>());
+        assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
+        text(&o)
+    };
+    let (out, err) = run("-q");
+    assert_eq!((out.as_str(), err.as_str()), ("", ""));
+    assert!(plan.exists());
+    let (normal, _) = run("");
+    assert!(normal.contains("solved: sum_of_costs") && !normal.contains("parameters:"));
+    let (verbose, _) = run("-v");
+    assert!(verbose.contains("parameters: anytime=false"), "{verbose}");
+    assert!(verbose.contains("lacam notes: {"), "{verbose}");
+    let o = mrpp(&["validate", "-q", "-m", &m, "--plan", plan.to_str().unwrap()]);
+    assert_eq!((o.status.code(), text(&o).0.as_str()), (Some(0), ""));
+    let o = mrpp(&["validate", "-q", "-m", &m, "--plan", &m]);
+    let (out, err) = text(&o);
+    assert_eq!((o.status.code(), out.as_str()), (Some(1), ""));
+    assert!(err.starts_with("mrpp: error: "), "{err}");
+}
