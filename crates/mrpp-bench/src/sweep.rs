@@ -746,7 +746,9 @@ impl GridSweep {
             };
             return record(status, None, runtime_ms);
         }
-        let Ok((theirs, plan)) = mrpp_grid::io::lacam::parse_lacam(&text, &out, &inst.map) else {
+        let Ok((theirs, plan, claims)) =
+            mrpp_grid::io::lacam::parse_lacam_with_claims(&text, &out, &inst.map)
+        else {
             return record("invalid", None, runtime_ms);
         };
         let ours = inst.problem.instance();
@@ -759,8 +761,22 @@ impl GridSweep {
             &peer.name,
             Duration::from_secs_f64(runtime_ms / 1e3),
         ) {
-            Ok(s) => record("solved", Some(s.metrics), runtime_ms),
-            Err(_) => record("invalid", None, runtime_ms),
+            // A peer's claimed soc / makespan / sum_of_loss must hold too (lacam0 and lacam3
+            // count them as mrpp does).
+            Ok(s)
+                if claims
+                    .check(
+                        &out,
+                        &s.plan,
+                        &ours.goals,
+                        s.metrics.sum_of_costs,
+                        s.metrics.makespan,
+                    )
+                    .is_ok() =>
+            {
+                record("solved", Some(s.metrics), runtime_ms)
+            }
+            _ => record("invalid", None, runtime_ms),
         }
     }
 }

@@ -10,7 +10,7 @@ use mrpp_core::mapf::plan_file::RunInfo;
 use mrpp_core::mapf::search::distance::lower_bounds;
 use mrpp_core::{Instance, MapfProblem, Problem, VertexId};
 use mrpp_grid::GridMap;
-use mrpp_grid::io::lacam::{parse_lacam, write_lacam};
+use mrpp_grid::io::lacam::{parse_lacam_with_claims, write_lacam};
 use mrpp_grid::io::plan_json::{grid_envelope, read_grid_plan};
 use mrpp_grid::io::render::render_svg;
 
@@ -145,13 +145,20 @@ fn read_plan(inputs: &Inputs, plan_path: &Path) -> Result<ReadPlan<MapfProblem>,
         let about = format!("planner {} | seed {}", or_unknown(&env.planner), env.seed);
         (problem, plan, env.metrics, about)
     } else {
-        let (inst, plan) = parse_lacam(&text, plan_path, &map)?;
-        (
-            mrpp_grid::problem_on(&map, inst),
-            plan,
-            Map::new(),
-            String::new(),
-        )
+        let (inst, plan, claims) = parse_lacam_with_claims(&text, plan_path, &map)?;
+        let problem = mrpp_grid::problem_on(&map, inst);
+        // The claims are checked here, against a valid plan's metrics; an invalid plan is the
+        // validator's to report (with its first violation).
+        if let Ok(m) = problem.validate(&plan) {
+            claims.check(
+                plan_path,
+                &plan,
+                &problem.instance().goals,
+                m.sum_of_costs,
+                m.makespan,
+            )?;
+        }
+        (problem, plan, Map::new(), String::new())
     };
     if let Some(scen) = &inputs.scen {
         let expected =

@@ -1083,3 +1083,40 @@ fn quiet_and_verbose_levels() {
     assert_eq!((o.status.code(), out.as_str()), (Some(1), ""));
     assert!(err.starts_with("mrpp: error: "), "{err}");
 }
+
+/// `mrpp validate` holds a LaCAM result's claims (soc, makespan, sum_of_loss) against its paths,
+/// as it does a JSON plan's metrics (issue 14, kind 3).
+#[test]
+fn lacam_claims_that_disagree_with_the_paths_are_refused() {
+    let (m, i) = (
+        data("movingai/random-32-32-20.map"),
+        data("movingai/random-32-32-20-random-1.scen"),
+    );
+    let plan = tmp("claims.txt");
+    let p = plan.to_str().unwrap();
+    let o = mrpp(&[
+        "solve", "-m", &m, "-i", &i, "-N", "30", "-P", "lacam", "--format", "lacam", "-o", p,
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
+    let good = std::fs::read_to_string(&plan).unwrap();
+    let o = mrpp(&["validate", "-m", &m, "--plan", p]);
+    assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
+    for key in ["soc", "makespan", "sum_of_loss"] {
+        let line = good
+            .lines()
+            .find(|l| l.starts_with(&format!("{key}=")))
+            .unwrap();
+        let value: u64 = line[key.len() + 1..].parse().unwrap();
+        std::fs::write(&plan, good.replace(line, &format!("{key}={}", value + 1))).unwrap();
+        let o = mrpp(&["validate", "-m", &m, "--plan", p]);
+        let (_, err) = text(&o);
+        assert_eq!(o.status.code(), Some(1), "{key}: {err}");
+        assert!(
+            err.contains(&format!(
+                "the result claims {key}={} but its paths give {value}",
+                value + 1
+            )),
+            "{err}"
+        );
+    }
+}

@@ -20,7 +20,8 @@
 //! Cells are `(x,y)` with x the column and y the row. Each `solution` line is the configuration of
 //! all agents at one time step, from 0 to the makespan; an agent whose path has ended is repeated
 //! on its last cell. Keys the reader does not know (`soc_lb`, `makespan_lb`, `seed`, ...) are
-//! skipped, as LaCAM's variants add their own. A file of step lines alone (pypibt's output and
+//! skipped, as LaCAM's variants add their own; `soc`, `makespan` and `sum_of_loss` are claims
+//! that `mrpp validate` holds against the paths ([`LacamClaims`]). A file of step lines alone (pypibt's output and
 //! the visualizer's demos, with or without `solution=`) is read as solved, its starts step 0 and
 //! its goals the last step.
 
@@ -144,6 +145,63 @@ fn one_line(s: &str) -> String {
 /// two agents sharing a start or goal. A result with `solved=0` is [`Error::Invalid`]: it holds
 /// no plan. Whether the plan itself is valid is the validator's question.
 pub fn parse_lacam(text: &str, path: &Path, map: &GridMap) -> Result<(Instance, Plan)> {
+    parse_lacam_with_claims(text, path, map).map(|(inst, plan, _)| (inst, plan))
+}
+
+/// What a LaCAM result claims about its plan: `soc`, `makespan` and `sum_of_loss` with their
+/// lines, when the file has them. [`LacamClaims::check`] holds them against the paths, as the
+/// plan envelope's `metrics` are.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct LacamClaims {
+    pub soc: Option<(u64, usize)>,
+    pub makespan: Option<(u64, usize)>,
+    pub sum_of_loss: Option<(u64, usize)>,
+}
+
+impl LacamClaims {
+    /// Compares the claims with the validator's `sum_of_costs` and `makespan` of `plan` and with
+    /// its sum of loss (computed as [`write_lacam`] writes it).
+    ///
+    /// # Errors
+    /// The first claim that disagrees, naming the file, its line, the claim and the true value.
+    pub fn check(
+        &self,
+        path: &Path,
+        plan: &Plan,
+        goals: &[VertexId],
+        sum_of_costs: u64,
+        makespan: u64,
+    ) -> Result<()> {
+        let loss = || sum_of_loss(plan, goals, makespan);
+        for (key, claim, actual) in [
+            ("soc", self.soc, sum_of_costs),
+            ("makespan", self.makespan, makespan),
+            ("sum_of_loss", self.sum_of_loss, u64::MAX),
+        ] {
+            let Some((value, line)) = claim else { continue };
+            let actual = if key == "sum_of_loss" { loss() } else { actual };
+            if value != actual {
+                return Err(Error::parse(
+                    path,
+                    line,
+                    format!("the result claims {key}={value} but its paths give {actual}"),
+                ));
+            }
+        }
+        Ok(())
+    }
+}
+
+/// [`parse_lacam`] with the file's [`LacamClaims`].
+///
+/// # Errors
+/// As [`parse_lacam`], and a claim that is not a count.
+pub fn parse_lacam_with_claims(
+    text: &str,
+    path: &Path,
+    map: &GridMap,
+) -> Result<(Instance, Plan, LacamClaims)> {
+    let mut claims = LacamClaims::default();
     let mut agents: Option<(usize, usize)> = None;
     let mut solved: Option<(bool, usize)> = None;
     let mut starts: Option<(Vec<VertexId>, usize)> = None;
@@ -232,7 +290,18 @@ pub fn parse_lacam(text: &str, path: &Path, map: &GridMap) -> Result<(Instance, 
                 }
                 in_solution = true;
             }
-            _ => {} // soc, makespan, comp_time, soc_lb, seed, ...: informative only.
+            key @ ("soc" | "makespan" | "sum_of_loss") => {
+                let v = value.parse::<u64>().map_err(|_| {
+                    Error::parse(path, no, format!("{key}=`{value}` is not a count"))
+                })?;
+                let slot = match key {
+                    "soc" => &mut claims.soc,
+                    "makespan" => &mut claims.makespan,
+                    _ => &mut claims.sum_of_loss,
+                };
+                *slot = Some((v, no));
+            }
+            _ => {} // comp_time, soc_lb, seed, ...: informative only.
         }
     }
     let missing = |key: &str| Error::parse(path, last_line.max(1), format!("no `{key}=` line"));
@@ -303,7 +372,7 @@ pub fn parse_lacam(text: &str, path: &Path, map: &GridMap) -> Result<(Instance, 
         .map(|i| steps.iter().map(|(cfg, _)| cfg[i]).collect())
         .collect();
     let inst = Instance::new(starts, goals).map_err(|msg| Error::invalid(path, msg))?;
-    Ok((inst, Plan::new(paths)))
+    Ok((inst, Plan::new(paths), claims))
 }
 
 /// Parses `(x,y),(x,y),` (spaces tolerated, final comma optional) into vertices of `map`.
@@ -417,6 +486,44 @@ mod tests {
              starts=(0,0),(2,2),\ngoals=(2,0),(2,1),\nsolution=\n\
              0:(0,0),(2,2),\n1:(1,0),(2,2),\n2:(2,0),(2,1),\n"
         );
+    }
+
+    /// Each claim of a written result holds; changing any one of them by 1 is caught, naming the
+    /// line, the claim and the true value.
+    #[test]
+    fn claims_are_held_against_the_paths() {
+        let (m, inst, plan, metrics) = tiny();
+        let text = write_lacam(&m, "m.map", "pibt", &inst, Some((&plan, metrics)), 3.6, 9);
+        let check = |text: &str| {
+            let (inst, plan, claims) =
+                parse_lacam_with_claims(text, Path::new("r.txt"), &m).unwrap();
+            claims.check(
+                Path::new("r.txt"),
+                &plan,
+                &inst.goals,
+                metrics.sum_of_costs,
+                metrics.makespan,
+            )
+        };
+        check(&text).unwrap();
+        for (key, line, right, wrong) in [
+            ("soc", 5, 4, 5),
+            ("makespan", 7, 2, 3),
+            ("sum_of_loss", 9, 4, 3),
+        ] {
+            let bad = text.replace(&format!("\n{key}={right}\n"), &format!("\n{key}={wrong}\n"));
+            assert_ne!(bad, text);
+            let err = check(&bad).unwrap_err().to_string();
+            assert_eq!(
+                err,
+                format!("r.txt:{line}: the result claims {key}={wrong} but its paths give {right}")
+            );
+        }
+        let err =
+            parse_lacam_with_claims(&text.replace("soc=4", "soc=four"), Path::new("r.txt"), &m)
+                .unwrap_err()
+                .to_string();
+        assert!(err.contains("r.txt:5: soc=`four` is not a count"), "{err}");
     }
 
     #[test]
