@@ -154,6 +154,18 @@ impl Reservations {
             && (self.last[v as usize] == NEVER || self.last[v as usize] < t)
     }
 
+    /// The first time from which `v` stays free for good (one after its latest reservation, 0
+    /// when never reserved), or `None` when a parked agent holds it forever.
+    pub fn free_for_good_from(&self, v: VertexId) -> Option<u32> {
+        if self.parked[v as usize] != NEVER {
+            return None;
+        }
+        Some(match self.last[v as usize] {
+            NEVER => 0,
+            t => t + 1,
+        })
+    }
+
     /// Latest reserved time step.
     pub fn horizon(&self) -> u32 {
         self.horizon
@@ -245,12 +257,28 @@ pub enum Search {
 /// Space-time A*. Full mode: reach the goal at a time from which it is free forever (minimising the
 /// arrival time). Windowed mode: a best path of `w` steps whose end is ranked by `g + h`.
 /// Ties: lower f, then higher g, then insertion order (deterministic).
+///
+/// Full mode uses the goal-reservation bound: no plan arrives for good before the goal's last
+/// reservation has passed, so the heuristic of `(v, t)` is `max(h(v), T_goal - t)` with `T_goal`
+/// from [`Reservations::free_for_good_from`] (admissible and consistent). With ties going to the
+/// higher `g`, a goal reserved late no longer makes the search expand every `(cell, time)` state
+/// before `T_goal`; a goal parked on forever is answered at once (`NotFound`).
 pub fn space_time_astar(q: &Query, res: &Reservations) -> Search {
     if !res.vertex_free(q.start, q.start_time) {
         return Search::NotFound;
     }
-    let h = |v| (q.h)(v);
-    if h(q.start) == u32::MAX {
+    let goal_free = match q.window {
+        Some(_) => 0,
+        None => match res.free_for_good_from(q.goal) {
+            Some(t) => t,
+            None => return Search::NotFound,
+        },
+    };
+    let h = |v, t: u32| match (q.h)(v) {
+        u32::MAX => u32::MAX,
+        hv => hv.max(goal_free.saturating_sub(t)),
+    };
+    if h(q.start, q.start_time) == u32::MAX {
         return Search::NotFound;
     }
     // Node arena: (vertex, t, g, parent, terminal).
@@ -277,7 +305,13 @@ pub fn space_time_astar(q: &Query, res: &Reservations) -> Search {
         t: q.start_time,
         parent: u32::MAX,
     });
-    open.push((Reverse(h(q.start)), 0, Reverse(counter), 0, false));
+    open.push((
+        Reverse(h(q.start, q.start_time)),
+        0,
+        Reverse(counter),
+        0,
+        false,
+    ));
     seen.set(q.start, q.start_time, 0, false);
     let mut expansions = 0u64;
     while let Some((_, g, _, idx, terminal)) = open.pop() {
@@ -304,7 +338,7 @@ pub fn space_time_astar(q: &Query, res: &Reservations) -> Search {
             if t == end {
                 // Terminal: rank by g + h; re-queued so that cheaper terminals win.
                 counter += 1;
-                let hv = h(v);
+                let hv = h(v, t);
                 open.push((
                     Reverse(g.saturating_add(hv)),
                     g,
@@ -323,7 +357,7 @@ pub fn space_time_astar(q: &Query, res: &Reservations) -> Search {
             if !res.move_free(v, w, nt) {
                 continue;
             }
-            let hw = h(w);
+            let hw = h(w, nt);
             // Unreachable, or (full mode) cannot arrive by `max_time` even unobstructed.
             if hw == u32::MAX || (end_time.is_none() && nt.saturating_add(hw) > q.max_time) {
                 continue;
@@ -378,6 +412,28 @@ mod tests {
     use super::*;
     use crate::mapf::search::distance::bfs_distances;
     use crate::mapf::search::sipp::sipp;
+
+    /// A goal that a parked agent holds forever is answered at once, and a goal reserved late
+    /// gives an arrival right after its last reservation.
+    #[test]
+    fn goal_reservations_bound_the_arrival() {
+        let g = Graph::from_edges(4, &[(0, 1), (1, 2), (2, 3)]);
+        let h = |v: VertexId| 3u32.abs_diff(v);
+        let mut res = Reservations::new(4);
+        res.reserve_path(&[3, 3, 3, 3, 3, 3, 3, 2], 0, false);
+        assert_eq!(res.free_for_good_from(3), Some(7));
+        match space_time_astar(&query(&g, 0, 3, &h, 50), &res) {
+            // The holder leaves 3 for 2 at t = 7: arriving then would be a swap, and 2 is taken at 7.
+            Search::Found(p) => assert_eq!(p.len() - 1, 9, "{p:?}"),
+            other => panic!("{other:?}"),
+        }
+        res.reserve_path(&[1, 2, 3], 0, true);
+        assert_eq!(res.free_for_good_from(3), None);
+        assert_eq!(
+            space_time_astar(&query(&g, 0, 3, &h, 1_000_000), &res),
+            Search::NotFound
+        );
+    }
 
     #[test]
     fn waits_for_a_reserved_centre_in_both_searches() {
