@@ -16,7 +16,9 @@ use mrpp_core::mapf::plan_file::RunInfo;
 use mrpp_core::registry::find;
 use mrpp_core::{Ctx, Deadline, Params, PlannerEntry, Problem, Solved, Unsolved, solve};
 
-use crate::output::{Fail, detail, metrics_object, out, pairs, say, time_limit, write_atomic};
+use crate::output::{
+    Fail, check_output, detail, metrics_object, out, pairs, say, time_limit, write_atomic,
+};
 use crate::progress;
 
 /// Every family the binary knows, in the order `mrpp planners` lists them.
@@ -69,6 +71,22 @@ pub struct Inputs {
 }
 
 impl Inputs {
+    /// The input files given (outputs may not overwrite them).
+    pub(crate) fn paths(&self) -> Vec<&Path> {
+        [
+            &self.map,
+            &self.scen,
+            &self.lorr,
+            &self.instance,
+            &self.formation,
+            &self.world,
+            &self.line_world,
+        ]
+        .into_iter()
+        .filter_map(|p| p.as_deref())
+        .collect()
+    }
+
     /// The files given, as `--flag path` pairs (for `-v`).
     pub(crate) fn files(&self) -> String {
         let named = [
@@ -381,6 +399,26 @@ fn run_planner<P: Problem + 'static>(
 /// The generic `solve`: one [`run_planner`], print the summary, write the plan file, exit 0
 /// solved, 3 not solved; an invalid plan (a bug) is an error (exit 1) and nothing is written.
 fn solve_with<P: Problem + 'static>(def: &Def<P>, req: &SolveRequest) -> Result<u8, Fail> {
+    let mut inputs = req.inputs.paths();
+    // A saved program run by GP (`-p program=FILE`) is an input too.
+    inputs.extend(
+        req.params
+            .iter()
+            .filter(|(k, _)| k == "program")
+            .map(|(_, v)| Path::new(v.as_str())),
+    );
+    if req.format == Format::Lacam && req.out.is_none() {
+        return Err(Fail(
+            "--format lacam writes a file: give --out FILE (or --out - for stdout)".into(),
+        ));
+    }
+    for out in [&req.out, &req.save_program].into_iter().flatten() {
+        check_output(out, &inputs)?;
+        if out.as_os_str() == "-" {
+            // stdout carries the file alone: no summaries around it.
+            crate::output::set_verbosity(true, 0);
+        }
+    }
     let run = run_planner(def, req, true)?;
     report(&run.outcome, run.runtime_ms, &run.planner, &run.notes)?;
     detail!(

@@ -213,8 +213,10 @@ struct SolveArgs {
     /// Write a program the planner made (GP) here.
     #[arg(long)]
     save_program: Option<PathBuf>,
-    #[arg(long, value_enum, default_value_t = Format::Json)]
-    format: Format,
+    /// Plan file format (default: from --out's extension: .json the plan envelope, .txt or
+    /// .lacam LaCAM text; JSON for stdout `-`).
+    #[arg(long, value_enum)]
+    format: Option<Format>,
 }
 
 impl SolveArgs {
@@ -236,6 +238,10 @@ impl SolveArgs {
             }
             params.push((k, v));
         }
+        let format = match self.format {
+            Some(f) => f,
+            None => output::format_of(self.out.as_deref())?,
+        };
         Ok(SolveRequest {
             inputs: self.inputs,
             planner: self.planner,
@@ -243,7 +249,7 @@ impl SolveArgs {
             seed: self.seed,
             time_limit: self.time_limit,
             out: self.out,
-            format: self.format,
+            format,
             save_program: self.save_program,
             command: "solve",
         })

@@ -79,14 +79,45 @@ pub(crate) fn seconds(flag: &str, value: f64) -> Result<Duration, Fail> {
     Ok(Duration::from_secs_f64(value))
 }
 
-/// Writes `contents` to `path` through a temporary file in the same directory, so a reader never
-/// sees half a file.
+/// Writes `contents` to `path`, the one way every command writes a file:
+///
+/// - `-`: to stdout;
+/// - an existing FIFO, device or other special file (`/dev/null`, `/dev/stdout`): in place, so it
+///   stays what it is;
+/// - a symbolic link: through to the file it names (the link stays);
+/// - otherwise through a temporary file in the same folder renamed over `path`, so a reader
+///   never sees half a file and an interrupted write leaves the old file.
 pub(crate) fn write_atomic(path: &Path, contents: impl AsRef<[u8]>) -> Result<(), Fail> {
-    let dir = path
+    use std::io::Write as _;
+    let cannot = |e: std::io::Error| Fail(format!("{}: cannot write: {e}", path.display()));
+    if path.as_os_str() == "-" {
+        let mut out = std::io::stdout().lock();
+        return out
+            .write_all(contents.as_ref())
+            .and_then(|()| out.flush())
+            .map_err(cannot);
+    }
+    let target = match std::fs::symlink_metadata(path) {
+        Ok(m) if m.file_type().is_symlink() => std::fs::canonicalize(path).map_err(cannot)?,
+        _ => path.to_path_buf(),
+    };
+    if let Ok(m) = std::fs::metadata(&target)
+        && !m.is_file()
+    {
+        if m.is_dir() {
+            return Err(Fail(format!("{}: is a folder, not a file", path.display())));
+        }
+        return std::fs::OpenOptions::new()
+            .write(true)
+            .open(&target)
+            .and_then(|mut f| f.write_all(contents.as_ref()))
+            .map_err(cannot);
+    }
+    let dir = target
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
         .unwrap_or(Path::new("."));
-    let name = path
+    let name = target
         .file_name()
         .ok_or_else(|| Fail(format!("{}: not a file name", path.display())))?;
     let tmp = dir.join(format!(
@@ -94,12 +125,136 @@ pub(crate) fn write_atomic(path: &Path, contents: impl AsRef<[u8]>) -> Result<()
         name.to_string_lossy(),
         std::process::id()
     ));
-    std::fs::write(&tmp, contents.as_ref())
-        .map_err(|e| Fail(format!("{}: cannot write: {e}", path.display())))?;
-    std::fs::rename(&tmp, path).map_err(|e| {
+    std::fs::write(&tmp, contents.as_ref()).map_err(cannot)?;
+    std::fs::rename(&tmp, &target).map_err(|e| {
         let _ = std::fs::remove_file(&tmp);
-        Fail(format!("{}: cannot write: {e}", path.display()))
+        cannot(e)
     })
+}
+
+/// Checks, before any work, that `out` can be written and is none of `inputs`: a path to one of
+/// the inputs (the same file, however named) is refused, as are a missing or read-only folder,
+/// a folder given as a file, and a special file that cannot be opened for writing. `-` (stdout)
+/// and FIFOs pass without a probe (opening a FIFO would wait for a reader).
+pub(crate) fn check_output(out: &Path, inputs: &[&Path]) -> Result<(), Fail> {
+    if out.as_os_str() == "-" {
+        return Ok(());
+    }
+    if let Some(input) = inputs.iter().find(|i| same_file(out, i)) {
+        return Err(Fail(format!(
+            "{}: the output would overwrite the input {}; choose another --out",
+            out.display(),
+            input.display()
+        )));
+    }
+    let target = std::fs::canonicalize(out).unwrap_or_else(|_| out.to_path_buf());
+    match std::fs::metadata(&target) {
+        Ok(m) if m.is_dir() => {
+            return Err(Fail(format!("{}: is a folder, not a file", out.display())));
+        }
+        Ok(m) if !m.is_file() => {
+            #[cfg(unix)]
+            if std::os::unix::fs::FileTypeExt::is_fifo(&m.file_type()) {
+                return Ok(());
+            }
+            return std::fs::OpenOptions::new()
+                .write(true)
+                .open(&target)
+                .map(|_| ())
+                .map_err(|e| Fail(format!("{}: cannot write: {e}", out.display())));
+        }
+        // An existing file must be writable itself (e.g. not /proc/version); opening it for
+        // writing without truncating leaves it as it is.
+        Ok(_) => {
+            std::fs::OpenOptions::new()
+                .write(true)
+                .open(&target)
+                .map_err(|e| Fail(format!("{}: cannot write: {e}", out.display())))?;
+        }
+        Err(_) => {}
+    }
+    let dir = target
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    probe_folder(dir).map_err(|e| {
+        Fail(format!(
+            "{}: cannot write: no file can be made in {} ({e})",
+            out.display(),
+            dir.display()
+        ))
+    })
+}
+
+/// Checks, before any work, that the output folder `dir` exists or can be made, and that files
+/// can be written in it.
+pub(crate) fn check_output_folder(dir: &Path) -> Result<(), Fail> {
+    let fail =
+        |e: std::io::Error| Fail(format!("{}: cannot write output here: {e}", dir.display()));
+    if dir.exists() && !dir.is_dir() {
+        return Err(Fail(format!("{}: is a file, not a folder", dir.display())));
+    }
+    std::fs::create_dir_all(dir).map_err(fail)?;
+    probe_folder(dir).map_err(fail)
+}
+
+/// Creates and removes a probe file in `dir`.
+fn probe_folder(dir: &Path) -> std::io::Result<()> {
+    if !dir.is_dir() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::NotFound,
+            format!("no folder {}", dir.display()),
+        ));
+    }
+    let probe = dir.join(format!(".mrpp-probe{}", std::process::id()));
+    std::fs::OpenOptions::new()
+        .write(true)
+        .create_new(true)
+        .open(&probe)?;
+    std::fs::remove_file(&probe)
+}
+
+/// The plan format an `--out` path asks for by its extension: `.json` (or stdout `-`, a device
+/// or FIFO such as `/dev/null`, or no `--out`) the plan envelope, `.txt` or `.lacam` LaCAM text;
+/// any other extension is refused (name the format with `--format`).
+pub(crate) fn format_of(out: Option<&Path>) -> Result<crate::family::Format, Fail> {
+    use crate::family::Format;
+    let special = |o: &Path| std::fs::metadata(o).is_ok_and(|m| !m.is_file() && !m.is_dir());
+    let Some(out) = out.filter(|o| o.as_os_str() != "-" && !special(o)) else {
+        return Ok(Format::Json);
+    };
+    let ext = out
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    match ext.as_str() {
+        "json" => Ok(Format::Json),
+        "txt" | "lacam" => Ok(Format::Lacam),
+        _ => Err(Fail(format!(
+            "{}: cannot tell the plan format from `{}`: use .json (plan envelope), .txt or .lacam \
+             (LaCAM text), or --format json|lacam",
+            out.display(),
+            if ext.is_empty() {
+                "no extension".to_string()
+            } else {
+                format!(".{ext}")
+            }
+        ))),
+    }
+}
+
+/// Whether `a` and `b` name the same existing file (device and inode on Unix).
+fn same_file(a: &Path, b: &Path) -> bool {
+    match (std::fs::metadata(a), std::fs::metadata(b)) {
+        #[cfg(unix)]
+        (Ok(x), Ok(y)) => {
+            use std::os::unix::fs::MetadataExt as _;
+            x.dev() == y.dev() && x.ino() == y.ino()
+        }
+        #[cfg(not(unix))]
+        (Ok(_), Ok(_)) => std::fs::canonicalize(a).ok() == std::fs::canonicalize(b).ok(),
+        _ => false,
+    }
 }
 
 /// The last component of `path` (what outputs record).

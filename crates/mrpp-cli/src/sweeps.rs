@@ -10,7 +10,7 @@ use mrpp_bench::harness::{
 };
 use mrpp_bench::{Shard, Sweep};
 
-use crate::output::{Fail, say, write_atomic};
+use crate::output::{Fail, check_output_folder, say, write_atomic};
 use crate::progress::Jobs;
 
 /// Run the whole sweep or one shard, or merge parts; every mode writes into `out`.
@@ -100,8 +100,7 @@ fn run_jobs<S: Sweep>(
     use std::io::Write as _;
     let total = sweep.jobs().len();
     let mine = (0..total).filter(|&j| shard.owns(j)).count();
-    std::fs::create_dir_all(out)
-        .map_err(|e| Fail(format!("{}: cannot create: {e}", out.display())))?;
+    check_output_folder(out)?;
     let progress = out.join(progress_file(sweep, seed, shard));
     let previous = read_progress(sweep, shard, &progress)?;
     cut_partial_line(&progress)?;

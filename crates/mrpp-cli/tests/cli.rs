@@ -900,7 +900,11 @@ fn convert_writes_every_hstar_map_as_movingai_that_reads_back_the_same() {
     let before = std::fs::read(&map).unwrap();
     let o = mrpp(&["convert", "--map", &map, "--out-map", &map]);
     assert_eq!(o.status.code(), Some(1));
-    assert!(text(&o).1.contains("is an input"));
+    assert!(
+        text(&o).1.contains("would overwrite the input"),
+        "{:?}",
+        text(&o)
+    );
     assert_eq!(std::fs::read(&map).unwrap(), before);
 }
 
@@ -1119,4 +1123,122 @@ fn lacam_claims_that_disagree_with_the_paths_are_refused() {
             "{err}"
         );
     }
+}
+
+/// Issue 14, kind 5: outputs are checked before any work and written without harming what they
+/// name. LaCAM* with a 30 s limit would plan for 30 s, so a refusal well under that shows the
+/// check came first.
+#[test]
+fn outputs_are_checked_before_planning_and_never_harm_inputs_or_devices() {
+    let (m, i) = (
+        data("movingai/random-32-32-20.map"),
+        data("movingai/random-32-32-20-random-1.scen"),
+    );
+    let map = tmp("safety.map");
+    std::fs::copy(&m, &map).unwrap();
+    let map_s = map.to_str().unwrap();
+    let long = |out: &str, extra: &[&str]| {
+        let mut a = vec!["solve", "-m", map_s, "-i", &i, "-N", "200", "-P", "lacam"];
+        a.extend(["-p", "anytime=true", "-t", "30", "-o", out]);
+        a.extend(extra);
+        let started = std::time::Instant::now();
+        let o = mrpp(&a);
+        (o.status.code(), text(&o).1, started.elapsed().as_secs_f64())
+    };
+    // The map itself, by its own name or through a symbolic link: refused, the map untouched.
+    let link = tmp("safety-link.json");
+    let _ = std::fs::remove_file(&link);
+    std::os::unix::fs::symlink(&map, &link).unwrap();
+    for out in [map_s, link.to_str().unwrap()] {
+        let (code, err, secs) = long(out, &["--format", "json"]);
+        assert_eq!(code, Some(1), "{err}");
+        assert!(err.contains("would overwrite the input"), "{err}");
+        assert!(secs < 10.0, "refused after {secs} s: planning ran first");
+    }
+    assert_eq!(std::fs::read(&map).unwrap(), std::fs::read(&m).unwrap());
+    // A folder that does not exist, and a file under /proc: refused at once.
+    for (out, says) in [
+        ("/nonexistent-mrpp/plan.json", "no folder /nonexistent-mrpp"),
+        ("/proc/version", "no file can be made in /proc"),
+    ] {
+        let (code, err, secs) = long(out, &["--format", "json"]);
+        assert_eq!(code, Some(1), "{err}");
+        assert!(err.contains(says), "{err}");
+        assert!(secs < 10.0, "refused after {secs} s");
+    }
+    // Unknown extensions are refused; .txt is LaCAM text.
+    let (code, err, _) = long("plan.out", &[]);
+    assert_eq!(code, Some(1));
+    assert!(
+        err.contains("cannot tell the plan format from `.out`"),
+        "{err}"
+    );
+    // /dev/null stays a character device; `-` writes the plan alone on stdout.
+    let o = mrpp(&[
+        "solve",
+        "-m",
+        &m,
+        "-i",
+        &i,
+        "-N",
+        "5",
+        "-P",
+        "lacam",
+        "-o",
+        "/dev/null",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
+    use std::os::unix::fs::FileTypeExt as _;
+    assert!(
+        std::fs::metadata("/dev/null")
+            .unwrap()
+            .file_type()
+            .is_char_device()
+    );
+    let o = mrpp(&[
+        "solve", "-m", &m, "-i", &i, "-N", "5", "-P", "lacam", "-o", "-",
+    ]);
+    let (out, _) = text(&o);
+    let env: serde_json::Value = serde_json::from_str(&out).expect("stdout is the plan alone");
+    assert_eq!(env["format"], "mrpp-plan/1");
+    let o = mrpp(&[
+        "solve", "-m", &m, "-i", &i, "-N", "5", "-P", "lacam", "--format", "lacam",
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(
+        text(&o).1.contains("--format lacam writes a file"),
+        "{:?}",
+        text(&o)
+    );
+    // A symbolic link to a plan file is followed: the link stays a link.
+    let target = tmp("safety-target.txt");
+    std::fs::write(&target, "old").unwrap();
+    let link = tmp("safety-plan-link.txt");
+    let _ = std::fs::remove_file(&link);
+    std::os::unix::fs::symlink(&target, &link).unwrap();
+    let o = mrpp(&[
+        "solve",
+        "-m",
+        &m,
+        "-i",
+        &i,
+        "-N",
+        "5",
+        "-P",
+        "lacam",
+        "-o",
+        link.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
+    assert!(
+        std::fs::symlink_metadata(&link)
+            .unwrap()
+            .file_type()
+            .is_symlink()
+    );
+    assert!(
+        std::fs::read_to_string(&target)
+            .unwrap()
+            .starts_with("agents=5")
+    );
 }
