@@ -53,10 +53,15 @@ pub(crate) struct RunArgs {
     #[arg(long, conflicts_with = "config")]
     runs: Option<usize>,
     /// Seconds per run (flags only; a config sets `time_limit`).
-    #[arg(short = 't', long, conflicts_with = "config")]
+    #[arg(
+        short = 't',
+        long,
+        conflicts_with = "config",
+        allow_negative_numbers = true
+    )]
     time_limit: Option<f64>,
     /// Seed (overrides the config's).
-    #[arg(short = 's', long)]
+    #[arg(short = 's', long, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
     seed: Option<u64>,
     /// Run only shard i of N (`i/N`).
     #[arg(long)]

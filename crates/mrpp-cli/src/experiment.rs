@@ -74,7 +74,7 @@ pub struct HbmoArgs {
     /// Runs per (world, method); the paper: 5 (use 30 for the significance tests).
     #[arg(long, default_value_t = 5)]
     runs: usize,
-    #[arg(short = 's', long, default_value_t = 0)]
+    #[arg(short = 's', long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
     seed: u64,
     /// Methods (comma-separated registry names).
     #[arg(long, value_delimiter = ',', default_value = "hbmo,de,pso,orca")]
@@ -83,7 +83,12 @@ pub struct HbmoArgs {
     #[arg(short = 'p', long = "param", value_name = "KEY=VALUE")]
     params: Vec<String>,
     /// Wall-clock limit per run, in seconds.
-    #[arg(short = 't', long, default_value_t = 60.0)]
+    #[arg(
+        short = 't',
+        long,
+        default_value_t = 60.0,
+        allow_negative_numbers = true
+    )]
     time_limit: f64,
     /// The folder of six-robots-four-obstacles.json (default: the copy embedded in mrpp, the
     /// repository's data/continuous).
@@ -104,13 +109,13 @@ pub struct GaFormationArgs {
     /// Formation sizes R (comma-separated).
     #[arg(long, value_delimiter = ',', default_value = "1,2,3")]
     robots: Vec<usize>,
-    #[arg(short = 's', long, default_value_t = 0)]
+    #[arg(short = 's', long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
     seed: u64,
     /// The paper's scale: 95 pairs per map x 7 maps x R = 1..3.
     #[arg(long)]
     paper_settings: bool,
     /// Wall-clock limit of the exact planner per configuration, in seconds.
-    #[arg(long, default_value_t = 30.0)]
+    #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
     exact_time_limit: f64,
     /// The folder of the polygon maps (default: the copy embedded in mrpp, the repository's
     /// data/polygon-maps: the three public maps and the gen-* stand-ins).
@@ -132,7 +137,7 @@ pub struct HstarTable2Args {
     /// Runs per (instance, method); the paper uses 10.
     #[arg(long, default_value_t = 10)]
     runs: usize,
-    #[arg(short = 's', long, default_value_t = 0)]
+    #[arg(short = 's', long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
     seed: u64,
     /// Output directory (results.csv, table2.md, fig5.svg, plans/).
     #[arg(short = 'o', long, default_value = "out/hstar-table2")]
@@ -147,7 +152,12 @@ pub struct HstarTable2Args {
     #[arg(long, value_enum, default_value_t = Sc2Map::Open)]
     sc2_map: Sc2Map,
     /// Wall-clock limit of one run, in seconds.
-    #[arg(short = 't', long, default_value_t = 30.0)]
+    #[arg(
+        short = 't',
+        long,
+        default_value_t = 30.0,
+        allow_negative_numbers = true
+    )]
     time_limit: f64,
     /// Only these planners (comma-separated: coevolution, whca, nsga3, hstar).
     #[arg(long, value_delimiter = ',')]
@@ -167,7 +177,7 @@ pub struct GpCommon {
     /// (default 50, paper 100); Table 5 — problems per leaf multiplier (default 40, paper 200).
     #[arg(long)]
     problems: Option<usize>,
-    #[arg(short = 's', long, default_value_t = 0)]
+    #[arg(short = 's', long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
     seed: u64,
     /// GP parameters; `--paper-settings` also sets the paper's problem counts (days of CPU time
     /// on 2 cores).
@@ -175,10 +185,10 @@ pub struct GpCommon {
     gp: crate::tree_family::GpParamArgs,
     /// Wall-clock bound of one evolution in seconds (ψ* so far is kept; makes results depend on
     /// the machine, so it is off by default).
-    #[arg(long)]
+    #[arg(long, allow_negative_numbers = true)]
     evolve_time_limit: Option<f64>,
     /// Wall-clock bound, in seconds, of one PSW run or one run of a program on a test problem.
-    #[arg(long, default_value_t = 60.0)]
+    #[arg(long, default_value_t = 60.0, allow_negative_numbers = true)]
     run_time_limit: f64,
     /// Depth budgets of the generated trees, `MIN-MAX` (default 3-4, trees of the paper's scale;
     /// with --paper-settings the paper's 4-10, and 4-9 for Table 4's test problems).

@@ -45,7 +45,7 @@ pub struct Inputs {
     #[arg(short = 'i', long)]
     pub scen: Option<PathBuf>,
     /// Use the first N agents of the scenario (default: all).
-    #[arg(short = 'N', long)]
+    #[arg(short = 'N', long, allow_negative_numbers = true, value_parser = crate::output::parse_count)]
     pub agents: Option<usize>,
     /// Grid problem from the League of Robot Runners: its problem JSON (2023 or 2026 start-kit
     /// layout), read with its map, agents and tasks as a one-shot instance (goal = first task).

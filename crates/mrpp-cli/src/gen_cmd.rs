@@ -24,9 +24,9 @@ pub(crate) enum Gen {
     Scen {
         #[arg(short = 'm', long)]
         map: PathBuf,
-        #[arg(short = 'N', long)]
+        #[arg(short = 'N', long, allow_negative_numbers = true, value_parser = crate::output::parse_count)]
         agents: usize,
-        #[arg(short = 's', long, default_value_t = 0)]
+        #[arg(short = 's', long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
         seed: u64,
         #[arg(short = 'o', long)]
         out: PathBuf,
@@ -44,7 +44,7 @@ pub(crate) enum Gen {
         /// Fraction of cells that are obstacles (0 to 0.9).
         #[arg(long, default_value_t = 0.1)]
         obstacles: f64,
-        #[arg(short = 's', long, default_value_t = 0)]
+        #[arg(short = 's', long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
         seed: u64,
         #[arg(short = 'o', long)]
         out: PathBuf,
@@ -57,7 +57,7 @@ pub(crate) enum Gen {
     PolygonMap {
         #[arg(long)]
         kind: String,
-        #[arg(short = 's', long)]
+        #[arg(short = 's', long, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
         seed: u64,
         #[arg(short = 'o', long)]
         out: PathBuf,
@@ -73,7 +73,7 @@ pub(crate) enum Gen {
         map: PathBuf,
         #[arg(long)]
         robots: usize,
-        #[arg(short = 's', long)]
+        #[arg(short = 's', long, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
         seed: u64,
         #[arg(long, default_value_t = 0.3)]
         radius: f64,
@@ -99,7 +99,7 @@ pub(crate) enum Gen {
         /// Obstacles of a random world.
         #[arg(long, default_value_t = 4)]
         obstacles: usize,
-        #[arg(short = 's', long, default_value_t = 0)]
+        #[arg(short = 's', long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
         seed: u64,
         /// Circle: radius of the ring.
         #[arg(long, default_value_t = 200.0)]

@@ -161,8 +161,24 @@ fn read_plan(inputs: &Inputs, plan_path: &Path) -> Result<ReadPlan<MapfProblem>,
         (problem, plan, Map::new(), String::new())
     };
     if let Some(scen) = &inputs.scen {
-        let expected =
-            mrpp_grid::scen::load_agents(scen, &map, inputs.agents.or(Some(problem.num_agents())))?;
+        let n = problem.num_agents();
+        if let Some(k) = inputs.agents.filter(|&k| k != n) {
+            return Err(Fail(format!(
+                "{}: the plan has {n} agents but --agents asks for {k}",
+                plan_path.display()
+            )));
+        }
+        let mut expected = mrpp_grid::scen::load_agents(scen, &map, None)?;
+        if expected.num_agents() < n {
+            return Err(Fail(format!(
+                "{}: the plan has {n} agents but {} has only {}",
+                plan_path.display(),
+                scen.display(),
+                expected.num_agents()
+            )));
+        }
+        expected.starts.truncate(n);
+        expected.goals.truncate(n);
         check_against(&map, problem.instance(), &expected, plan_path)?;
     } else if inputs.lorr.is_some() {
         let inputs = Inputs {

@@ -114,7 +114,7 @@ enum Command {
         #[arg(short = 'i', long)]
         scen: Option<PathBuf>,
         /// Only the first N agents.
-        #[arg(short = 'N', long)]
+        #[arg(short = 'N', long, allow_negative_numbers = true, value_parser = crate::output::parse_count)]
         agents: Option<usize>,
         #[arg(long)]
         out_map: PathBuf,
@@ -191,7 +191,7 @@ struct SolveArgs {
     #[arg(short = 'p', long = "param", value_name = "KEY=VALUE")]
     params: Vec<String>,
     /// Seed of every random choice.
-    #[arg(short = 's', long, default_value_t = 0)]
+    #[arg(short = 's', long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
     seed: u64,
     /// Wall-clock limit in seconds.
     #[arg(

@@ -73,7 +73,8 @@ pub(crate) fn time_limit(value: f64) -> Result<Duration, Fail> {
 pub(crate) fn seconds(flag: &str, value: f64) -> Result<Duration, Fail> {
     if !(value.is_finite() && value > 0.0 && value <= MAX_TIME_LIMIT) {
         return Err(Fail(format!(
-            "--{flag} must be a positive number of seconds, at most {MAX_TIME_LIMIT}, got {value}"
+            "--{flag} must be more than 0 and at most {MAX_TIME_LIMIT:e} seconds (about 115 \
+             days), got {value:?}"
         )));
     }
     Ok(Duration::from_secs_f64(value))
@@ -240,6 +241,29 @@ pub(crate) fn format_of(out: Option<&Path>) -> Result<crate::family::Format, Fai
                 format!(".{ext}")
             }
         ))),
+    }
+}
+
+/// `--agents` and other counts: a whole number from 1 (clap's parser for them, so that `-5` is
+/// named as a bad value of its option rather than an unknown flag).
+pub(crate) fn parse_count(s: &str) -> Result<usize, String> {
+    match s.trim().parse::<i128>() {
+        Ok(n) if n >= 1 && n <= usize::MAX as i128 => Ok(n as usize),
+        Ok(n) => Err(format!("must be a whole number from 1, got {n}")),
+        Err(_) => Err(format!("must be a whole number from 1, got `{s}`")),
+    }
+}
+
+/// `--seed`: a whole number from 0 to 2^64 - 1.
+pub(crate) fn parse_seed(s: &str) -> Result<u64, String> {
+    match s.trim().parse::<i128>() {
+        Ok(n) if (0..=u64::MAX as i128).contains(&n) => Ok(n as u64),
+        Ok(n) => Err(format!(
+            "must be a whole number from 0 to 2^64 - 1, got {n}"
+        )),
+        Err(_) => Err(format!(
+            "must be a whole number from 0 to 2^64 - 1, got `{s}`"
+        )),
     }
 }
 

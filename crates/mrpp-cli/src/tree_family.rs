@@ -98,7 +98,7 @@ pub(crate) enum Trees {
     )]
     Gen {
         /// Seed of the random stream (the same seed and parameters give the same file).
-        #[arg(short = 's', long)]
+        #[arg(short = 's', long, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
         seed: u64,
         /// Depth budget, Algorithm 2's "seed" (paper: 4–10; at most 30).
         #[arg(long)]
@@ -135,7 +135,7 @@ pub(crate) enum Trees {
         #[arg(long)]
         program: Option<PathBuf>,
         /// Seed of the GP evolution (PSW is deterministic; the seed is only recorded).
-        #[arg(short = 's', long, default_value_t = 0)]
+        #[arg(short = 's', long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
         seed: u64,
         /// Wall-clock limit in seconds.
         #[arg(

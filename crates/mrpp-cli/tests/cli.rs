@@ -1242,3 +1242,122 @@ fn outputs_are_checked_before_planning_and_never_harm_inputs_or_devices() {
             .starts_with("agents=5")
     );
 }
+
+/// Issue 14, kind 6: every bad number names its option and the rule, a byte-order mark is
+/// tolerated, a map of neither format says what was tried, and a scenario shorter than the plan
+/// says so.
+#[test]
+fn messages_name_the_option_the_rule_and_the_formats_tried() {
+    let (m, i) = (
+        data("movingai/random-32-32-20.map"),
+        data("movingai/random-32-32-20-random-1.scen"),
+    );
+    let err_of = |args: &[&str]| {
+        let o = mrpp(args);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {:?}", text(&o));
+        text(&o).1
+    };
+    let solve = |extra: &[&str]| {
+        let mut a = vec!["solve", "-m", m.as_str(), "-i", i.as_str(), "-P", "lacam"];
+        a.extend(extra);
+        err_of(&a)
+    };
+    let e = solve(&["--agents", "-5"]);
+    assert!(
+        e.contains("'--agents <AGENTS>': must be a whole number from 1, got -5"),
+        "{e}"
+    );
+    let e = solve(&["--seed", "-1"]);
+    assert!(
+        e.contains("'--seed <SEED>': must be a whole number from 0 to 2^64 - 1"),
+        "{e}"
+    );
+    for t in ["-1", "0", "1e30", "nan"] {
+        let e = solve(&["--time-limit", t]);
+        assert!(
+            e.contains("--time-limit must be more than 0 and at most 1e7 seconds"),
+            "{t}: {e}"
+        );
+    }
+    let e = err_of(&["experiment", "hbmo", "-t", "-2"]);
+    assert!(e.contains("--time-limit must be more than 0"), "{e}");
+    // A BOM before a MovingAI header reads like the file without it.
+    let bom = tmp("bom.map");
+    let mut bytes = vec![0xef, 0xbb, 0xbf];
+    bytes.extend(std::fs::read(&m).unwrap());
+    std::fs::write(&bom, bytes).unwrap();
+    let o = mrpp(&["info", "-m", bom.to_str().unwrap(), "-i", &i, "-N", "5"]);
+    assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
+    // Neither format: both named.
+    let bad = tmp("neither.map");
+    std::fs::write(&bad, "hello\n").unwrap();
+    let e = err_of(&["info", "-m", bad.to_str().unwrap(), "-i", &i]);
+    assert!(
+        e.contains("neither.map:1: not a MovingAI map") && e.contains("and not an H* paper map"),
+        "{e}"
+    );
+    // A plan of 30 agents against a 10-agent scenario.
+    let plan = tmp("thirty.json");
+    let o = mrpp(&[
+        "solve",
+        "-m",
+        &m,
+        "-i",
+        &i,
+        "-N",
+        "30",
+        "-P",
+        "lacam",
+        "-o",
+        plan.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(0));
+    let short = tmp("ten.scen");
+    let scen_text = std::fs::read_to_string(&i).unwrap();
+    let ten: Vec<&str> = scen_text.lines().take(11).collect();
+    std::fs::write(&short, ten.join("\n")).unwrap();
+    let e = err_of(&[
+        "validate",
+        "-m",
+        &m,
+        "-i",
+        short.to_str().unwrap(),
+        "--plan",
+        plan.to_str().unwrap(),
+    ]);
+    assert!(
+        e.contains("the plan has 30 agents but") && e.contains("ten.scen has only 10"),
+        "{e}"
+    );
+    // An unsolved plan: nothing to draw, said as such.
+    let unsolved = tmp("unsolved.json");
+    let o = mrpp(&[
+        "solve",
+        "-m",
+        &m,
+        "-i",
+        &i,
+        "-N",
+        "3",
+        "-P",
+        "lacam",
+        "-t",
+        "0.000001",
+        "-o",
+        unsolved.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(3), "{:?}", text(&o));
+    let e = err_of(&[
+        "render",
+        "-m",
+        &m,
+        "--plan",
+        unsolved.to_str().unwrap(),
+        "-o",
+        tmp("u.svg").to_str().unwrap(),
+    ]);
+    assert!(
+        e.contains("holds no plan (nothing to check or draw)"),
+        "{e}"
+    );
+}

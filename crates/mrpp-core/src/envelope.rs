@@ -133,7 +133,7 @@ impl<E: Serialize + DeserializeOwned> Envelope<E> {
         } else {
             Err(Error::invalid(
                 path,
-                "the file says solved=false: it holds no plan to validate",
+                "the file says solved=false: it holds no plan (nothing to check or draw)",
             ))
         }
     }

@@ -50,11 +50,17 @@ impl Error {
     }
 }
 
-/// Reads a whole file, naming it in the error.
+/// Reads a whole file as UTF-8 text, naming it in the error; a leading byte-order mark (which
+/// some editors write) is dropped, so every parser reads such files like any other.
 pub fn read_file(path: &std::path::Path) -> Result<String> {
     let bytes = std::fs::read(path).map_err(|source| Error::Io {
         path: path.to_path_buf(),
         source,
     })?;
-    String::from_utf8(bytes).map_err(|e| Error::invalid(path, format!("not UTF-8 text ({e})")))
+    let mut text = String::from_utf8(bytes)
+        .map_err(|e| Error::invalid(path, format!("not UTF-8 text ({e})")))?;
+    if text.starts_with('\u{feff}') {
+        text.drain(..'\u{feff}'.len_utf8());
+    }
+    Ok(text)
 }

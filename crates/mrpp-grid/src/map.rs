@@ -277,7 +277,10 @@ fn parse_ascii(text: &str, path: &Path) -> Result<GridMap> {
                         path,
                         i + 1,
                         format!(
-                            "unexpected character `{}` in column {x} (expected `#` or space)",
+                            "not a MovingAI map (it starts without a `type`, `height` or \
+                             `width` header line) and not an H* paper map: unexpected \
+                             character `{}` in column {x} (that format has `#` for walls and \
+                             spaces for free cells)",
                             other.escape_debug()
                         ),
                     ));

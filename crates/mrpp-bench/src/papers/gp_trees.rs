@@ -307,8 +307,8 @@ fn per_problem(
         psw_steps,
         psw_swaps,
         gp_steps: None,
-        gp_generations: 0,
-        gp_evaluations: 0,
+        gp_generations: planner.effort().0,
+        gp_evaluations: planner.effort().1,
         gp_seconds,
         program: None,
         psw_run,
@@ -316,8 +316,6 @@ fn per_problem(
     };
     if let Some(s) = planner.evolved() {
         row.gp_steps = gp_run.makespan;
-        row.gp_generations = s.result.generations;
-        row.gp_evaluations = s.result.evaluations;
         row.program = Some(s.program.to_string());
     }
     Ok(row)

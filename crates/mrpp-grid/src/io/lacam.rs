@@ -319,7 +319,7 @@ pub fn parse_lacam_with_claims(
     if !solved {
         return Err(Error::invalid(
             path,
-            "the result says solved=0: it holds no plan to validate",
+            "the result says solved=0: it holds no plan (nothing to check or draw)",
         ));
     }
     let (starts, starts_line) = starts.ok_or_else(|| missing("starts"))?;

@@ -104,16 +104,48 @@ pub fn gp(
     deadline: Deadline,
     progress: &mut dyn FnMut(&GpProgress),
 ) -> Result<GpSolution, Unsolved> {
-    let problem =
-        Problem::new(graph, inst).map_err(|e| Unsolved::GaveUp(format!("GP needs a tree: {e}")))?;
-    let result = evolve(
+    gp_with_effort(graph, inst, params, seed, deadline, progress).0
+}
+
+/// [`gp`], with the evolution's effort `(generations, evaluations)` whether or not a program
+/// solved the instance (`(0, 0)` when the evolution never started).
+pub fn gp_with_effort(
+    graph: &Graph,
+    inst: &Instance,
+    params: &GpParams,
+    seed: u64,
+    deadline: Deadline,
+    progress: &mut dyn FnMut(&GpProgress),
+) -> (Result<GpSolution, Unsolved>, (usize, u64)) {
+    let problem = match Problem::new(graph, inst) {
+        Ok(p) => p,
+        Err(e) => {
+            return (
+                Err(Unsolved::GaveUp(format!("GP needs a tree: {e}"))),
+                (0, 0),
+            );
+        }
+    };
+    let result = match evolve(
         std::slice::from_ref(&problem),
         params,
         seed,
         deadline,
         progress,
-    )
-    .map_err(|e| Unsolved::GaveUp(e.to_string()))?;
+    ) {
+        Ok(r) => r,
+        Err(e) => return (Err(Unsolved::GaveUp(e.to_string())), (0, 0)),
+    };
+    let effort = (result.generations, result.evaluations);
+    (solution_of(result, &problem, params), effort)
+}
+
+/// ψ*'s plan from an evolution's result (or why there is none).
+fn solution_of(
+    result: GpResult,
+    problem: &Problem,
+    params: &GpParams,
+) -> Result<GpSolution, Unsolved> {
     let Some(program) = result.best.clone() else {
         return Err(if result.stop == GpStop::TimeLimit {
             Unsolved::TimeLimit
@@ -129,7 +161,7 @@ pub fn gp(
     let tau = result
         .best_steps
         .expect("a solving program has its step count");
-    let mut out = run_program(&program, &problem, &params.sim, tau, true, Deadline::none());
+    let mut out = run_program(&program, problem, &params.sim, tau, true, Deadline::none());
     if !out.solved() {
         return Err(Unsolved::GaveUp(format!(
             "internal error: ψ* did not repeat its {tau}-step solution"
@@ -268,6 +300,8 @@ pub struct Gp {
     /// A saved program to run instead of evolving one.
     saved: Option<Program>,
     evolved: Mutex<Option<GpSolution>>,
+    /// `(generations, evaluations)` of the last evolution, solved or not.
+    effort: Mutex<(usize, u64)>,
 }
 
 impl Gp {
@@ -276,7 +310,14 @@ impl Gp {
             params,
             saved: None,
             evolved: Mutex::new(None),
+            effort: Mutex::new((0, 0)),
         }
+    }
+
+    /// `(generations, evaluations)` of the last evolution, whether or not it solved the
+    /// instance (a failed run's cost belongs in the results too).
+    pub fn effort(&self) -> (usize, u64) {
+        self.effort.lock().map_or((0, 0), |e| *e)
     }
 
     /// This planner running `program` (a saved ψ*) instead of evolving one: the plan of its run
@@ -320,7 +361,16 @@ impl Planner<MapfProblem> for Gp {
                 },
             })
         };
-        let solution = gp(graph, inst, &params, opts.seed, opts.deadline, &mut report)?;
+        let (solution, effort) =
+            gp_with_effort(graph, inst, &params, opts.seed, opts.deadline, &mut report);
+        if let Ok(mut slot) = self.effort.lock() {
+            *slot = effort;
+        }
+        if let Ok(mut slot) = self.evolved.lock() {
+            // A failed run must not leave an earlier run's program behind.
+            *slot = None;
+        }
+        let solution = solution?;
         let plan = solution.plan.clone();
         if let Ok(mut slot) = self.evolved.lock() {
             *slot = Some(solution);
@@ -337,13 +387,16 @@ impl Planner<MapfProblem> for Gp {
             m.insert("program".into(), p.to_string().into());
             m.insert("program_nodes".into(), p.len().into());
             m.insert("program_depth".into(), p.depth().into());
-        } else if let Some(s) = self.evolved() {
-            m.insert("program".into(), s.program.to_string().into());
-            m.insert("program_nodes".into(), s.program.len().into());
-            m.insert("program_depth".into(), s.program.depth().into());
-            if s.result.evaluations > 0 {
-                m.insert("generations".into(), s.result.generations.into());
-                m.insert("evaluations".into(), s.result.evaluations.into());
+        } else {
+            if let Some(s) = self.evolved() {
+                m.insert("program".into(), s.program.to_string().into());
+                m.insert("program_nodes".into(), s.program.len().into());
+                m.insert("program_depth".into(), s.program.depth().into());
+            }
+            let (generations, evaluations) = self.effort();
+            if evaluations > 0 {
+                m.insert("generations".into(), generations.into());
+                m.insert("evaluations".into(), evaluations.into());
             }
         }
         m
@@ -423,6 +476,36 @@ mod tests {
             }
         }
         assert!(ok >= 4, "{ok} of 6 solved");
+    }
+
+    /// Issue 14, kind 6: a run that found no solving program still reports what it spent.
+    #[test]
+    fn a_failed_evolution_reports_its_generations_and_evaluations() {
+        let planner = Gp::new(GpParams {
+            population: 4,
+            generations: 2,
+            runs: 1,
+            ..GpParams::default()
+        });
+        let mut failed = 0;
+        for seed in 0..20u64 {
+            let t =
+                generate_problem(&ProblemSpec::paper(7, RobotCount::LeavesMinusOne), seed).unwrap();
+            let opts = Ctx::new(seed, Deadline::none());
+            if solve_tree(&planner, &t.graph, &t.instance, &opts, true).is_err() {
+                failed += 1;
+                let (generations, evaluations) = planner.effort();
+                assert_eq!(generations, 2, "seed {seed}");
+                assert!(evaluations > 0, "seed {seed}");
+                let notes = planner.notes();
+                assert_eq!(notes["generations"], 2);
+                assert!(notes.get("program").is_none(), "no program solved");
+            }
+        }
+        assert!(
+            failed > 0,
+            "a 4-program, 2-generation GP should fail somewhere in 20 problems"
+        );
     }
 
     #[test]
