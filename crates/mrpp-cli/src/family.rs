@@ -340,6 +340,9 @@ fn run_planner<P: Problem + 'static>(
     let params = Params::resolve(entry.name, entry.params, &req.params)?;
     let planner = (entry.build)(&params)?;
     let load_started = Instant::now();
+    // The time limit covers the whole command from here, loading included: a user's
+    // `--time-limit 1` means an answer within a second.
+    let deadline = Deadline::after(limit);
     let loaded = (def.load)(&req.inputs)?;
     let load_ms = load_started.elapsed().as_secs_f64() * 1e3;
     let bar = if announce {
@@ -349,7 +352,7 @@ fn run_planner<P: Problem + 'static>(
     };
     let ctx = Ctx {
         progress: announce.then(|| progress::callback(&bar)),
-        ..Ctx::new(req.seed, Deadline::after(limit))
+        ..Ctx::new(req.seed, deadline)
     };
     if announce {
         say!(

@@ -86,6 +86,7 @@
 use pathfinding::directed::astar::astar;
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use rustc_hash::FxHashSet;
 
 use mrpp_core::contract::{Ctx, Deadline, Planner, Unsolved};
 use mrpp_core::mapf::graph::{Graph, VertexId};
@@ -330,13 +331,14 @@ pub fn route_conflict<T: Copy + Eq>(a: &[T], b: &[T]) -> Option<usize> {
 // Stage 1: A* with private obstacles
 // ---------------------------------------------------------------------------------------------
 
-/// 4-neighbour unit-cost A* (Manhattan heuristic) on a robot's private map; the successor
-/// closure counts expansions and offers none past `cap`, which ends the search without a route.
+/// 4-neighbour unit-cost A* (Manhattan heuristic) on a robot's private map (the map less the
+/// cells in `obstacles`); the successor closure counts expansions and offers none past `cap`,
+/// which ends the search without a route.
 fn private_astar(
     g: &Graph,
     start: VertexId,
     goal: VertexId,
-    obstacles: &[bool],
+    obstacles: &FxHashSet<VertexId>,
     cap: usize,
 ) -> Option<Vec<VertexId>> {
     let mut expanded = 0usize;
@@ -347,7 +349,7 @@ fn private_astar(
             let open = expanded <= cap;
             g.neighbors(v)
                 .iter()
-                .filter(|&&w| open && !obstacles[w as usize])
+                .filter(|&&w| open && !obstacles.contains(&w))
                 .map(|&w| (w, 1u32))
                 .collect::<Vec<_>>()
         },
@@ -381,9 +383,14 @@ pub fn astar_with_private_obstacles(
     deadline: Deadline,
 ) -> Result<AstarStage, Unsolved> {
     let n = inst.num_agents();
-    let mut obstacles = vec![vec![false; g.num_vertices()]; n];
+    // Each robot's private obstacles: the few cells it was told to avoid (a set, so memory
+    // follows the conflicts met, not the map's size).
+    let mut obstacles: Vec<FxHashSet<VertexId>> = vec![FxHashSet::default(); n];
     let mut routes = Vec::with_capacity(n);
     for (i, private) in obstacles.iter().enumerate() {
+        if deadline.expired() {
+            return Err(Unsolved::TimeLimit);
+        }
         match private_astar(g, inst.starts[i], inst.goals[i], private, usize::MAX) {
             Some(r) => routes.push(r),
             None => {
@@ -418,7 +425,10 @@ pub fn astar_with_private_obstacles(
                 if cell == inst.starts[a] || cell == inst.goals[a] {
                     continue;
                 }
-                obstacles[a][cell as usize] = true;
+                obstacles[a].insert(cell);
+                if deadline.expired() {
+                    return Err(Unsolved::TimeLimit);
+                }
                 if let Some(r) = private_astar(
                     g,
                     inst.starts[a],

@@ -25,12 +25,21 @@ impl Corridors {
     /// Compresses `g`: chains of degree-2 vertices are merged in order. A closed ring of degree-2
     /// vertices (no junction at all) is cut at its lowest vertex id.
     pub fn build(g: &Graph) -> Self {
+        Self::build_until(g, mrpp_core::Deadline::none()).expect("no deadline")
+    }
+
+    /// [`Corridors::build`], giving up (`None`) once `deadline` passes (polled every 65 536
+    /// cells: a million-cell map takes tens of milliseconds).
+    pub fn build_until(g: &Graph, deadline: mrpp_core::Deadline) -> Option<Self> {
         let n = g.num_vertices();
         let mut node_of = vec![u32::MAX; n];
         let mut index_in_node = vec![0u32; n];
         let mut cells: Vec<Vec<VertexId>> = Vec::new();
         let is_corridor = |v: VertexId| g.degree(v) == 2;
         for v in 0..n as VertexId {
+            if v % 65_536 == 0 && deadline.expired() {
+                return None;
+            }
             if node_of[v as usize] != u32::MAX {
                 continue;
             }
@@ -70,11 +79,11 @@ impl Corridors {
                 index_in_node[c as usize] = i as u32;
             }
         }
-        Corridors {
+        Some(Corridors {
             node_of,
             index_in_node,
             cells,
-        }
+        })
     }
 
     pub fn num_nodes(&self) -> usize {

@@ -57,7 +57,7 @@ use mrpp_core::contract::{Ctx, Deadline, Planner, Unsolved};
 use mrpp_core::mapf::graph::{Graph, VertexId};
 use mrpp_core::mapf::instance::Instance;
 use mrpp_core::mapf::plan::{Plan, first_conflict, position};
-use mrpp_core::mapf::search::distance::{UNREACHABLE, descend, goal_distance_tables};
+use mrpp_core::mapf::search::distance::{GoalDistances, UNREACHABLE};
 use mrpp_core::mapf::search::spacetime::{Query, Reservations, Search, space_time_astar};
 use mrpp_core::{MapfProblem, Param, PlannerEntry};
 
@@ -236,6 +236,10 @@ pub fn greedy_path_search(
             if cur == goal {
                 continue;
             }
+            // One robot's routes can search much of a large map: the limit is checked per robot.
+            if deadline.expired() {
+                return Err(Unsolved::TimeLimit);
+            }
             let occ: &[u32] = match cfg.update {
                 GreedyUpdate::Sequential => &occupancy,
                 GreedyUpdate::Simultaneous => &decided_on,
@@ -399,13 +403,13 @@ pub fn collision_elimination(
 fn plan_robot(
     g: &Graph,
     inst: &Instance,
-    dist: &[u32],
+    dist: &GoalDistances,
     i: usize,
     res: &Reservations,
     max_time: u32,
     deadline: Deadline,
 ) -> Search {
-    let h = |v: VertexId| dist[v as usize];
+    let h = |v: VertexId| dist.get(i, v);
     let q = Query {
         graph: g,
         start: inst.starts[i],
@@ -419,6 +423,20 @@ fn plan_robot(
     space_time_astar(&q, res)
 }
 
+/// Every robot's goal distances, grown to its start before `deadline` (lazy tables: memory per
+/// robot follows what its searches touch, 2 bits per vertex on huge instances).
+fn distances<'g>(
+    g: &'g Graph,
+    inst: &Instance,
+    deadline: Deadline,
+) -> Result<GoalDistances<'g>, Unsolved> {
+    let mut dist = GoalDistances::new(g, &inst.goals);
+    if !dist.warm_up(&inst.starts, deadline) {
+        return Err(Unsolved::TimeLimit);
+    }
+    Ok(dist)
+}
+
 /// Our extension (module doc): re-plan the robots that are short of their goals or in conflict
 /// with space-time A* against the other robots' paths; restart with a failing robot first.
 pub fn reservation_repair(
@@ -430,9 +448,9 @@ pub fn reservation_repair(
 ) -> Result<Vec<Vec<VertexId>>, Unsolved> {
     let n = inst.num_agents();
     let nv = g.num_vertices();
-    let dist = goal_distance_tables(g, &inst.goals);
-    for (i, d) in dist.iter().enumerate() {
-        if d[inst.starts[i] as usize] == UNREACHABLE {
+    let dist = distances(g, inst, deadline)?;
+    for i in 0..n {
+        if dist.get(i, inst.starts[i]) == UNREACHABLE {
             return Err(Unsolved::GaveUp(format!(
                 "agent {i} cannot reach its goal on this map"
             )));
@@ -452,7 +470,7 @@ pub fn reservation_repair(
     }
     // Longest remaining distance first among the re-planned robots.
     let mut order: Vec<usize> = (0..n).filter(|&i| replan[i]).collect();
-    order.sort_by_key(|&i| (std::cmp::Reverse(dist[i][inst.starts[i] as usize]), i));
+    order.sort_by_key(|&i| (std::cmp::Reverse(dist.get(i, inst.starts[i])), i));
     let mut fixed: Vec<bool> = replan.iter().map(|r| !r).collect();
     for _round in 0..max_rounds.max(1) {
         let mut res = Reservations::new(nv);
@@ -463,7 +481,7 @@ pub fn reservation_repair(
         let mut failed = None;
         for &i in &order {
             let max_time = res.horizon() + nv as u32 + 1;
-            match plan_robot(g, inst, &dist[i], i, &res, max_time, deadline) {
+            match plan_robot(g, inst, &dist, i, &res, max_time, deadline) {
                 Search::Found(p) => {
                     res.reserve_path(&p, 0, true);
                     out[i] = p;
@@ -481,7 +499,7 @@ pub fn reservation_repair(
                 // Free the robots in i's way and plan i before them: first those parked on a
                 // shortest route of i, else those whose paths cross it, else everyone.
                 let route: FxHashSet<VertexId> =
-                    descend(g, &dist[i], inst.starts[i]).into_iter().collect();
+                    dist.descend(i, inst.starts[i]).into_iter().collect();
                 let candidates: Vec<usize> = (0..n).filter(|&j| fixed[j]).collect();
                 let mut freed: Vec<usize> = candidates
                     .iter()
@@ -498,7 +516,7 @@ pub fn reservation_repair(
                 if freed.is_empty() {
                     freed = candidates;
                 }
-                freed.sort_by_key(|&j| (std::cmp::Reverse(dist[j][inst.starts[j] as usize]), j));
+                freed.sort_by_key(|&j| (std::cmp::Reverse(dist.get(j, inst.starts[j])), j));
                 for &j in &freed {
                     fixed[j] = false;
                 }
@@ -532,7 +550,7 @@ pub fn paper_stages(
     cfg: &HStar,
     opts: &Ctx,
 ) -> Result<PaperStages, Unsolved> {
-    let corridors = Corridors::build(g);
+    let corridors = Corridors::build_until(g, opts.deadline).ok_or(Unsolved::TimeLimit)?;
     let mut rng = ChaCha8Rng::seed_from_u64(opts.seed);
     let (mut paths, greedy_end) =
         greedy_path_search(g, &corridors, inst, cfg, &mut rng, opts.deadline)?;
@@ -677,8 +695,8 @@ pub fn local_replanning(
 ) -> Result<(), Unsolved> {
     const PAIR_CANDIDATES: usize = 3;
     let n = inst.num_agents();
-    let dist = goal_distance_tables(g, &inst.goals);
-    let ideal = |i: usize| dist[i][inst.starts[i] as usize] as usize;
+    let dist = distances(g, inst, deadline)?;
+    let ideal = |i: usize| dist.get(i, inst.starts[i]) as usize;
     let cost = |p: &[VertexId], i: usize| {
         mrpp_core::mapf::plan::path_cost(
             p,
@@ -688,7 +706,7 @@ pub fn local_replanning(
         .unwrap_or(usize::MAX)
     };
     let routes: Vec<FxHashSet<VertexId>> = (0..n)
-        .map(|i| descend(g, &dist[i], inst.starts[i]).into_iter().collect())
+        .map(|i| dist.descend(i, inst.starts[i]).into_iter().collect())
         .collect();
     // Plans `order` one after another against every path except theirs, their costs summing to at
     // most `budget` (each robot needs at least its distance); None if that is impossible.
@@ -709,7 +727,7 @@ pub fn local_replanning(
             let Some(bound) = left.checked_sub(others) else {
                 return Ok(None);
             };
-            match plan_robot(g, inst, &dist[i], i, &res, bound as u32, deadline) {
+            match plan_robot(g, inst, &dist, i, &res, bound as u32, deadline) {
                 Search::Found(p) => {
                     res.reserve_path(&p, 0, true);
                     left -= cost(&p, i).min(left);

@@ -297,7 +297,9 @@ pub(crate) fn search(
     let began = Instant::now();
     let n = starts.len();
     let mut dist = GoalDistances::new(graph, goals);
-    dist.warm_up(starts);
+    if !dist.warm_up(starts, ctx.deadline) {
+        return Err(Unsolved::TimeLimit);
+    }
     if let Some(i) = (0..n).find(|&i| dist.get(i, starts[i]) == UNREACHABLE) {
         return Err(Unsolved::GaveUp(format!("agent {i} cannot reach its goal")));
     }

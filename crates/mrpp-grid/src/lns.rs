@@ -244,7 +244,7 @@ mod tests {
         let plan = Lacam::default().plan(&p, &Ctx::default()).unwrap();
         let before = p.validate(&plan).unwrap().sum_of_costs;
         let mut dist = GoalDistances::new(g, &inst.goals);
-        dist.warm_up(&inst.starts);
+        assert!(dist.warm_up(&inst.starts, Deadline::none()));
         let mut lns = Lns::new(g, &inst.goals, &dist, plan.paths, 7);
         let mut last = lns.sum_of_costs();
         assert_eq!(last, before);

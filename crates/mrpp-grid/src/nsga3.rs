@@ -81,9 +81,7 @@ use crate::hstar::loop_elimination;
 use mrpp_core::contract::{Ctx, Deadline, Planner, Unsolved};
 use mrpp_core::mapf::graph::{Graph, VertexId};
 use mrpp_core::mapf::plan::Plan;
-use mrpp_core::mapf::search::distance::{
-    bfs_distances, descend, descend_weighted, dijkstra_distances,
-};
+use mrpp_core::mapf::search::distance::{descend_weighted, dijkstra_distances_until};
 use mrpp_core::{MapfProblem, Param, PlannerEntry};
 use mrpp_evo::nsga3::{Individual, Nsga3, Problem};
 
@@ -218,8 +216,10 @@ fn keep_off_distances(
     g: &Graph,
     source: VertexId,
     avoid: &dyn Fn(VertexId) -> bool,
-) -> Vec<KeepOffCost> {
-    dijkstra_distances(g, source, &|v| 1 + ((avoid(v) as u64) << 32))
+    deadline: Deadline,
+) -> Result<Vec<KeepOffCost>, Unsolved> {
+    dijkstra_distances_until(g, source, &|v| 1 + ((avoid(v) as u64) << 32), deadline)
+        .ok_or(Unsolved::TimeLimit)
 }
 
 /// The route from `from` to the table's source (first neighbour on a least-cost route).
@@ -249,6 +249,10 @@ struct Legs<'a> {
 /// goals); then detours through random waypoints, at most `detour_factor` × shortest +
 /// `detour_slack` long, built of such least-crossing legs (no more crossings than needed) except
 /// on every `plain_detour_every`-th draw, which uses plain shortest legs.
+///
+/// # Errors
+/// [`Unsolved::TimeLimit`] once `deadline` passes (checked inside every graph search, so one
+/// robot's routes on a large map cannot overrun the limit).
 pub fn pregenerate_routes(
     g: &Graph,
     start: VertexId,
@@ -256,15 +260,20 @@ pub fn pregenerate_routes(
     avoid: &[bool],
     p: &Nsga3Planner,
     rng: &mut ChaCha8Rng,
-) -> Option<Vec<Vec<VertexId>>> {
-    let shortest = descend(g, &bfs_distances(g, goal), start);
+    deadline: Deadline,
+) -> Result<Option<Vec<Vec<VertexId>>>, Unsolved> {
+    let plain_cost = |_: VertexId| 1u64;
+    let to_goal_plain =
+        dijkstra_distances_until(g, goal, &plain_cost, deadline).ok_or(Unsolved::TimeLimit)?;
+    let shortest = descend_weighted(g, &to_goal_plain, start, &plain_cost);
+    drop(to_goal_plain);
     if shortest.is_empty() {
-        return None;
+        return Ok(None);
     }
     let d = shortest.len() as u32 - 1;
     let mut routes = vec![shortest];
     if d == 0 || p.routes_per_robot <= 1 {
-        return Some(routes);
+        return Ok(Some(routes));
     }
     let bound = (p.detour_factor * d as f64).floor() as u64 + p.detour_slack as u64;
     let fits = |legs: &[KeepOffCost], need: u32| {
@@ -283,34 +292,37 @@ pub fn pregenerate_routes(
     let legs: Vec<Legs> = kinds
         .into_iter()
         .map(|avoid| {
-            let from_start = keep_off_distances(g, start, avoid);
-            let to_goal = keep_off_distances(g, goal, avoid);
+            let from_start = keep_off_distances(g, start, avoid, deadline)?;
+            let to_goal = keep_off_distances(g, goal, avoid, deadline)?;
             let need = crossings(to_goal[start as usize]);
             let eligible = (0..g.num_vertices() as VertexId)
                 .filter(|&w| {
                     !avoid(w) && fits(&[from_start[w as usize], to_goal[w as usize]], need)
                 })
                 .collect();
-            Legs {
+            Ok(Legs {
                 avoid,
                 from_start,
                 to_goal,
                 need,
                 eligible,
-            }
+            })
         })
-        .collect();
+        .collect::<Result<_, Unsolved>>()?;
     let least = keep_off_descend(g, &legs[0].to_goal, start, legs[0].avoid);
     if !routes.contains(&least) {
         routes.push(least);
     }
     if p.max_waypoints == 0 {
-        return Some(routes);
+        return Ok(Some(routes));
     }
     let mut second = Vec::new();
     for attempt in 0..p.route_attempts {
         if routes.len() >= p.routes_per_robot {
             break;
+        }
+        if deadline.expired() {
+            return Err(Unsolved::TimeLimit);
         }
         let plain_turn =
             p.plain_detour_every > 0 && attempt % p.plain_detour_every == p.plain_detour_every - 1;
@@ -327,7 +339,7 @@ pub fn pregenerate_routes(
             route.extend_from_slice(&keep_off_descend(g, &l.to_goal, w1, l.avoid)[1..]);
         } else {
             // start -> w1 -> w2 -> goal, w2 drawn so that the whole still fits.
-            let from_w1 = keep_off_distances(g, w1, l.avoid);
+            let from_w1 = keep_off_distances(g, w1, l.avoid, deadline)?;
             let s1 = l.from_start[w1 as usize];
             second.clear();
             second.extend((0..g.num_vertices() as VertexId).filter(|&w| {
@@ -346,7 +358,7 @@ pub fn pregenerate_routes(
         }
     }
     routes.sort_by_key(Vec::len);
-    Some(routes)
+    Ok(Some(routes))
 }
 
 /// Step 2: one robot's gene pair.
@@ -601,7 +613,8 @@ impl Planner<MapfProblem> for Nsga3Planner {
                 &goal_cells,
                 self,
                 &mut rng,
-            )
+                deadline,
+            )?
             .ok_or_else(|| {
                 Unsolved::GaveUp(format!(
                     "agent {i} cannot reach its goal {} from {} (not connected)",
@@ -629,6 +642,7 @@ mod tests {
     use super::*;
     use crate::map::GridMap;
     use mrpp_core::mapf::plan::first_conflict;
+    use mrpp_core::mapf::search::distance::bfs_distances;
     use mrpp_core::solve;
     use mrpp_core::{Instance, Problem as _, Rules};
     use std::path::{Path, PathBuf};
@@ -660,8 +674,17 @@ mod tests {
         let g = m.graph();
         let p = Nsga3Planner::default();
         let mut rng = ChaCha8Rng::seed_from_u64(3);
-        let routes =
-            pregenerate_routes(g, inst.starts[0], inst.goals[0], &[], &p, &mut rng).unwrap();
+        let routes = pregenerate_routes(
+            g,
+            inst.starts[0],
+            inst.goals[0],
+            &[],
+            &p,
+            &mut rng,
+            Deadline::none(),
+        )
+        .unwrap()
+        .unwrap();
         assert!(routes.len() > 1 && routes.len() <= p.routes_per_robot);
         let d = bfs_distances(g, inst.goals[0])[inst.starts[0] as usize] as usize;
         assert_eq!(routes[0].len(), d + 1);
@@ -680,8 +703,17 @@ mod tests {
         let mut avoid = vec![false; g.num_vertices()];
         let marked = routes[0][2];
         avoid[marked as usize] = true;
-        let kept =
-            pregenerate_routes(g, inst.starts[0], inst.goals[0], &avoid, &p, &mut rng).unwrap();
+        let kept = pregenerate_routes(
+            g,
+            inst.starts[0],
+            inst.goals[0],
+            &avoid,
+            &p,
+            &mut rng,
+            Deadline::none(),
+        )
+        .unwrap()
+        .unwrap();
         assert_eq!(kept[0], routes[0]);
         let off = kept.iter().filter(|r| !r.contains(&marked)).count();
         assert!(off * 2 > kept.len(), "{off} of {} keep off", kept.len());
@@ -727,7 +759,17 @@ mod tests {
         let mut rng = ChaCha8Rng::seed_from_u64(11);
         let routes: Vec<_> = (0..inst.num_agents())
             .map(|i| {
-                pregenerate_routes(g, inst.starts[i], inst.goals[i], &[], &p, &mut rng).unwrap()
+                pregenerate_routes(
+                    g,
+                    inst.starts[i],
+                    inst.goals[i],
+                    &[],
+                    &p,
+                    &mut rng,
+                    Deadline::none(),
+                )
+                .unwrap()
+                .unwrap()
             })
             .collect();
         let sel = RouteSelection::new(&routes, g.num_vertices(), &p);

@@ -303,7 +303,9 @@ impl Planner<MapfProblem> for Pibt {
         let (g, inst) = (problem.graph(), problem.instance());
         let n = inst.num_agents();
         let mut dist = GoalDistances::new(g, &inst.goals);
-        dist.warm_up(&inst.starts);
+        if !dist.warm_up(&inst.starts, ctx.deadline) {
+            return Err(Unsolved::TimeLimit);
+        }
         if let Some(i) = (0..n).find(|&i| dist.get(i, inst.starts[i]) == UNREACHABLE) {
             return Err(Unsolved::GaveUp(format!("agent {i} cannot reach its goal")));
         }

@@ -43,7 +43,7 @@ use std::sync::Mutex;
 
 use low_level::{AvoidanceTable, Constraint, Constraints, Found, NoPath, Query, focal_search};
 use mdd::Mdd;
-use mrpp_core::mapf::search::distance::{UNREACHABLE, goal_distance_tables};
+use mrpp_core::mapf::search::distance::{GoalDistances, UNREACHABLE};
 use mrpp_core::{
     Ctx, GoalSemantics, MapfProblem, Param, Plan, Planner, PlannerEntry, Progress, Unsolved,
     VertexId,
@@ -288,7 +288,8 @@ struct Search<'a> {
     problem: &'a MapfProblem,
     settings: Settings,
     ctx: &'a Ctx,
-    dist: Vec<Vec<u32>>,
+    /// Goal distances, grown lazily (memory per agent follows what its searches touch).
+    dist: GoalDistances<'a>,
     nodes: Vec<Node>,
     expanded: u64,
     /// Running sums of EECBS's one-step errors, and their count.
@@ -306,9 +307,12 @@ enum Child {
 impl<'a> Search<'a> {
     fn new(problem: &'a MapfProblem, settings: Settings, ctx: &'a Ctx) -> Result<Self, Unsolved> {
         let inst = problem.instance();
-        let dist = goal_distance_tables(problem.graph(), &inst.goals);
+        let mut dist = GoalDistances::new(problem.graph(), &inst.goals);
+        if !dist.warm_up(&inst.starts, ctx.deadline) {
+            return Err(Unsolved::TimeLimit);
+        }
         if let Some(i) =
-            (0..inst.num_agents()).find(|&i| dist[i][inst.starts[i] as usize] == UNREACHABLE)
+            (0..inst.num_agents()).find(|&i| dist.get(i, inst.starts[i]) == UNREACHABLE)
         {
             return Err(Unsolved::GaveUp(format!("agent {i} cannot reach its goal")));
         }
@@ -355,8 +359,8 @@ impl<'a> Search<'a> {
         let inst = self.problem.instance();
         let constraints = Constraints::new(inst.goals[i], list);
         let avoid = AvoidanceTable::new(paths, i);
-        let d = &self.dist[i];
-        let h = |v: VertexId| d[v as usize];
+        let d = &self.dist;
+        let h = |v: VertexId| d.get(i, v);
         match focal_search(&Query {
             graph: self.problem.graph(),
             start: inst.starts[i],
@@ -378,6 +382,11 @@ impl<'a> Search<'a> {
         let mut paths: Vec<Rc<Vec<VertexId>>> = (0..n).map(|_| Rc::new(Vec::new())).collect();
         let mut lbs = vec![0u64; n];
         for i in 0..n {
+            // Each agent's avoidance table reads every path so far: thousands of agents make
+            // the root itself long, so the limit is checked per agent.
+            if self.ctx.deadline.expired() {
+                return Err(Unsolved::TimeLimit);
+            }
             let found = self
                 .plan_agent(i, &[], &paths)?
                 .ok_or_else(|| Unsolved::GaveUp(format!("agent {i} cannot reach its goal")))?;
@@ -386,6 +395,9 @@ impl<'a> Search<'a> {
         }
         let mut conflicts = Vec::new();
         for a in 0..n {
+            if self.ctx.deadline.expired() {
+                return Err(Unsolved::TimeLimit);
+            }
             for b in a + 1..n {
                 conflicts.extend(first_conflict(a, &paths[a], b, &paths[b]));
             }
@@ -480,13 +492,13 @@ impl<'a> Search<'a> {
         let list = self.constraints_of(k, i);
         let constraints = Constraints::new(inst.goals[i], &list);
         let cost = self.nodes[k as usize].paths[i].len() as u32 - 1;
-        let d = &self.dist[i];
+        let d = &self.dist;
         let m = Rc::new(Mdd::build(
             self.problem.graph(),
             inst.starts[i],
             inst.goals[i],
             cost,
-            &|v| d[v as usize],
+            &|v| d.get(i, v),
             &constraints,
         ));
         self.nodes[k as usize].mdds[i] = Some(m.clone());

@@ -2,6 +2,7 @@
 
 use std::collections::VecDeque;
 
+use crate::contract::Deadline;
 use crate::mapf::graph::{Graph, VertexId};
 
 /// Distance of an unreachable vertex.
@@ -339,7 +340,11 @@ impl<'g> GoalDistances<'g> {
     /// When the tables are not packed and agents × vertices is at most 2^26, every table is
     /// completed instead, and later
     /// queries read them without locking.
-    pub fn warm_up(&mut self, at: &[VertexId]) {
+    ///
+    /// Returns `false` when `deadline` passed first: the deadline is checked before each table
+    /// (one table costs at most one breadth-first search of the graph), so thousands of agents
+    /// on a large map stop within one search of the limit; the tables stay usable (lazy).
+    pub fn warm_up(&mut self, at: &[VertexId], deadline: Deadline) -> bool {
         use rayon::prelude::*;
         let (g, goals, packed) = (self.graph, &self.goals, self.packed);
         let finish = !packed
@@ -350,6 +355,9 @@ impl<'g> GoalDistances<'g> {
             .zip(at.par_iter())
             .enumerate()
             .for_each(|(i, (t, &v))| {
+                if deadline.expired() {
+                    return;
+                }
                 let t = t
                     .get_mut()
                     .unwrap_or_else(std::sync::PoisonError::into_inner);
@@ -358,6 +366,9 @@ impl<'g> GoalDistances<'g> {
                     t.finish(g);
                 }
             });
+        if deadline.expired() {
+            return false;
+        }
         if finish {
             self.complete = Some(
                 self.tables
@@ -371,6 +382,29 @@ impl<'g> GoalDistances<'g> {
                     .collect(),
             );
         }
+        true
+    }
+
+    /// A shortest route from `from` to agent `i`'s goal (empty when unreachable): [`descend`] on
+    /// this agent's table.
+    pub fn descend(&self, i: usize, from: VertexId) -> Vec<VertexId> {
+        let mut d = self.get(i, from);
+        if d == UNREACHABLE {
+            return Vec::new();
+        }
+        let mut route = vec![from];
+        let mut v = from;
+        while d > 0 {
+            v = *self
+                .graph
+                .neighbors(v)
+                .iter()
+                .find(|&&w| self.get(i, w).wrapping_add(1) == d)
+                .expect("a BFS table always has a predecessor");
+            d -= 1;
+            route.push(v);
+        }
+        route
     }
 
     /// Number of agents (tables).
@@ -413,14 +447,31 @@ pub fn dijkstra_distances(
     source: VertexId,
     enter: &dyn Fn(VertexId) -> u64,
 ) -> Vec<u64> {
+    dijkstra_distances_until(g, source, enter, Deadline::none())
+        .expect("no deadline, so the search ends")
+}
+
+/// [`dijkstra_distances`] that gives up (`None`) once `deadline` has passed (polled every 4096
+/// settled vertices), so planners that run one per agent on large maps keep their time limit.
+pub fn dijkstra_distances_until(
+    g: &Graph,
+    source: VertexId,
+    enter: &dyn Fn(VertexId) -> u64,
+    deadline: Deadline,
+) -> Option<Vec<u64>> {
     use std::cmp::Reverse;
     let mut dist = vec![UNREACHED; g.num_vertices()];
     let mut heap = std::collections::BinaryHeap::new();
     dist[source as usize] = 0;
     heap.push(Reverse((0u64, source)));
+    let mut settled = 0u32;
     while let Some(Reverse((d, u))) = heap.pop() {
         if d > dist[u as usize] {
             continue;
+        }
+        settled = settled.wrapping_add(1);
+        if settled.is_multiple_of(4096) && deadline.expired() {
+            return None;
         }
         for &v in g.neighbors(u) {
             let nd = d + enter(v);
@@ -430,7 +481,7 @@ pub fn dijkstra_distances(
             }
         }
     }
-    dist
+    Some(dist)
 }
 
 /// A least-cost route from `from` down a [`dijkstra_distances`] table (built with the same
@@ -506,7 +557,7 @@ mod tests {
         let full = goal_distance_tables(&g, &goals);
         let lazy = GoalDistances::new(&g, &goals);
         let mut warmed = GoalDistances::new(&g, &goals);
-        warmed.warm_up(&[19, 0, 20]);
+        assert!(warmed.warm_up(&[19, 0, 20], Deadline::none()));
         for (i, table) in full.iter().enumerate() {
             for v in (0..21).rev() {
                 assert_eq!(lazy.get(i, v), table[v as usize], "agent {i} vertex {v}");
