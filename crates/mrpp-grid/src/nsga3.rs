@@ -15,7 +15,9 @@
 //!    (default 8) distinct start–goal routes, duplicates dropped: the shortest route (always
 //!    candidate 0); the shortest among the routes that enter the fewest *other robots' goal
 //!    cells*; then routes through 1–2 random waypoints, with loops cut ([`loop_elimination`], as
-//!    H*'s Algorithm 2). "Randomized routes" needs some randomness; waypoints give detours that
+//!    H*'s Algorithm 2). A robot that starts on its goal gets step-aside routes instead
+//!    ([`step_aside_routes`]: out to a cell one or two steps away, a wait, and back, not
+//!    loop-trimmed), so another robot can pass through its goal. "Randomized routes" needs some randomness; waypoints give detours that
 //!    differ in where they leave the shortest route, and loop cutting keeps them simple paths. A
 //!    waypoint route is at most `detour_factor` × shortest + `detour_slack` long (defaults 2 and
 //!    10): unbounded waypoints on a large map produce routes that no sensible answer would use and
@@ -272,7 +274,11 @@ pub fn pregenerate_routes(
     }
     let d = shortest.len() as u32 - 1;
     let mut routes = vec![shortest];
-    if d == 0 || p.routes_per_robot <= 1 {
+    if p.routes_per_robot <= 1 {
+        return Ok(Some(routes));
+    }
+    if d == 0 {
+        routes.extend(step_aside_routes(g, start, p.routes_per_robot - 1));
         return Ok(Some(routes));
     }
     let bound = (p.detour_factor * d as f64).floor() as u64 + p.detour_slack as u64;
@@ -359,6 +365,38 @@ pub fn pregenerate_routes(
     }
     routes.sort_by_key(Vec::len);
     Ok(Some(routes))
+}
+
+/// Waits at the far end of a step-aside route: long enough for another robot to pass through
+/// the vacated cell, which the start delay then times.
+const STEP_ASIDE_WAIT: usize = 1;
+
+/// Routes for a robot that starts on its goal **[R]**: step out to a cell one or two steps away
+/// (breadth-first order, up to `count` cells), wait [`STEP_ASIDE_WAIT`] steps and come back, so
+/// another robot can pass through the goal; with the start delay this picks when. They are not
+/// loop-trimmed (trimming would reduce each to the start cell, leaving a robot on its goal no
+/// way to let others through).
+fn step_aside_routes(g: &Graph, start: VertexId, count: usize) -> Vec<Vec<VertexId>> {
+    let mut out = Vec::new();
+    let mut ring: Vec<Vec<VertexId>> = g.neighbors(start).iter().map(|&n| vec![start, n]).collect();
+    let mut second = Vec::new();
+    for path in &ring {
+        let n = path[1];
+        for &m in g.neighbors(n) {
+            if m != start && !g.neighbors(start).contains(&m) {
+                second.push(vec![start, n, m]);
+            }
+        }
+    }
+    ring.extend(second);
+    for out_path in ring.into_iter().take(count) {
+        let far = *out_path.last().expect("a path of two or three cells");
+        let mut route = out_path.clone();
+        route.extend(std::iter::repeat_n(far, STEP_ASIDE_WAIT));
+        route.extend(out_path.iter().rev().skip(1));
+        out.push(route);
+    }
+    out
 }
 
 /// Step 2: one robot's gene pair.
@@ -820,6 +858,41 @@ mod tests {
         };
         run(&three, &m, &inst, 5).unwrap();
         assert_eq!(p.name(), "nsga3");
+    }
+
+    /// Issue 14, kind 4: a robot on its goal in a corridor must step into the pocket beside it
+    /// to let another pass. Every seed solves it (before the step-aside routes, none did).
+    #[test]
+    fn a_robot_on_its_goal_steps_aside_to_let_another_pass() {
+        let (m, _) = GridMap::parse(
+            "#######\n#.....#\n###.###\n#######\n",
+            Path::new("pocket.txt"),
+        )
+        .unwrap();
+        let cell = |x, y| m.vertex_at(x, y).unwrap();
+        let inst =
+            Instance::new(vec![cell(1, 1), cell(3, 1)], vec![cell(5, 1), cell(3, 1)]).unwrap();
+        let p = Nsga3Planner::default();
+        for seed in 0..10 {
+            let plan = run(&p, &m, &inst, seed).unwrap_or_else(|e| panic!("seed {seed}: {e}"));
+            assert!(
+                plan.paths[1].contains(&cell(3, 2)),
+                "robot 1 steps into the pocket"
+            );
+        }
+        let routes = pregenerate_routes(
+            m.graph(),
+            cell(3, 1),
+            cell(3, 1),
+            &[],
+            &p,
+            &mut ChaCha8Rng::seed_from_u64(0),
+            Deadline::none(),
+        )
+        .unwrap()
+        .unwrap();
+        assert_eq!(routes[0], vec![cell(3, 1)]);
+        assert!(routes.contains(&vec![cell(3, 1), cell(3, 2), cell(3, 2), cell(3, 1)]));
     }
 
     #[test]
