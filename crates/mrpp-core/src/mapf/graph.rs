@@ -35,6 +35,31 @@ impl Graph {
         }
     }
 
+    /// Builds a graph from compressed rows: vertex `v`'s neighbours are
+    /// `targets[offsets[v]..offsets[v + 1]]` (so `offsets` has one entry more than vertices and
+    /// starts at 0); `coords`, when given, has one cell per vertex. What large grid maps use: no
+    /// list per vertex is allocated.
+    pub fn from_csr(
+        offsets: Vec<u32>,
+        targets: Vec<VertexId>,
+        coords: Option<Vec<(u32, u32)>>,
+    ) -> Self {
+        assert_eq!(offsets.first(), Some(&0), "offsets start at 0");
+        assert_eq!(
+            offsets.last().map(|&o| o as usize),
+            Some(targets.len()),
+            "offsets end at the target count"
+        );
+        if let Some(c) = &coords {
+            assert_eq!(c.len() + 1, offsets.len(), "one coordinate per vertex");
+        }
+        Graph {
+            offsets,
+            targets,
+            coords,
+        }
+    }
+
     /// Builds an undirected graph from an edge list over `n` vertices.
     pub fn from_edges(n: usize, edges: &[(VertexId, VertexId)]) -> Self {
         let mut adj = vec![Vec::new(); n];
