@@ -417,7 +417,7 @@ fn solve_with<P: Problem + 'static>(def: &Def<P>, req: &SolveRequest) -> Result<
     }
     for out in [&req.out, &req.save_program].into_iter().flatten() {
         check_output(out, &inputs)?;
-        if out.as_os_str() == "-" {
+        if out.as_os_str() == "-" || out.as_os_str() == "/dev/stdout" {
             // stdout carries the file alone: no summaries around it.
             crate::output::set_verbosity(true, 0);
         }

@@ -98,22 +98,23 @@ pub(crate) fn write_atomic(path: &Path, contents: impl AsRef<[u8]>) -> Result<()
             .and_then(|()| out.flush())
             .map_err(cannot);
     }
+    if std::fs::metadata(path).is_ok_and(|m| m.is_dir()) {
+        return Err(Fail(format!("{}: is a folder, not a file", path.display())));
+    }
+    if in_place(path) {
+        // Truncated when it is a regular file behind `/dev/stdout` (a shell redirection).
+        let regular = std::fs::metadata(path).is_ok_and(|m| m.is_file());
+        return std::fs::OpenOptions::new()
+            .write(true)
+            .truncate(regular)
+            .open(path)
+            .and_then(|mut f| f.write_all(contents.as_ref()))
+            .map_err(cannot);
+    }
     let target = match std::fs::symlink_metadata(path) {
         Ok(m) if m.file_type().is_symlink() => std::fs::canonicalize(path).map_err(cannot)?,
         _ => path.to_path_buf(),
     };
-    if let Ok(m) = std::fs::metadata(&target)
-        && !m.is_file()
-    {
-        if m.is_dir() {
-            return Err(Fail(format!("{}: is a folder, not a file", path.display())));
-        }
-        return std::fs::OpenOptions::new()
-            .write(true)
-            .open(&target)
-            .and_then(|mut f| f.write_all(contents.as_ref()))
-            .map_err(cannot);
-    }
     let dir = target
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
@@ -133,6 +134,15 @@ pub(crate) fn write_atomic(path: &Path, contents: impl AsRef<[u8]>) -> Result<()
     })
 }
 
+/// Whether `path` is written in place rather than replaced: a device, FIFO or socket
+/// (`/dev/null`), and the process's own streams (`/dev/stdout`, `/dev/fd/N`, `/proc/self/fd/N`),
+/// which may name a pipe or a file the shell opened (replacing that file would lose the output).
+fn in_place(path: &Path) -> bool {
+    path.starts_with("/dev/")
+        || path.starts_with("/proc/self/fd/")
+        || std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
+}
+
 /// Checks, before any work, that `out` can be written and is none of `inputs`: a path to one of
 /// the inputs (the same file, however named) is refused, as are a missing or read-only folder,
 /// a folder given as a file, and a special file that cannot be opened for writing. `-` (stdout)
@@ -148,21 +158,23 @@ pub(crate) fn check_output(out: &Path, inputs: &[&Path]) -> Result<(), Fail> {
             input.display()
         )));
     }
+    if in_place(out) {
+        #[cfg(unix)]
+        if std::fs::metadata(out)
+            .is_ok_and(|m| std::os::unix::fs::FileTypeExt::is_fifo(&m.file_type()))
+        {
+            return Ok(());
+        }
+        return std::fs::OpenOptions::new()
+            .write(true)
+            .open(out)
+            .map(|_| ())
+            .map_err(|e| Fail(format!("{}: cannot write: {e}", out.display())));
+    }
     let target = std::fs::canonicalize(out).unwrap_or_else(|_| out.to_path_buf());
     match std::fs::metadata(&target) {
         Ok(m) if m.is_dir() => {
             return Err(Fail(format!("{}: is a folder, not a file", out.display())));
-        }
-        Ok(m) if !m.is_file() => {
-            #[cfg(unix)]
-            if std::os::unix::fs::FileTypeExt::is_fifo(&m.file_type()) {
-                return Ok(());
-            }
-            return std::fs::OpenOptions::new()
-                .write(true)
-                .open(&target)
-                .map(|_| ())
-                .map_err(|e| Fail(format!("{}: cannot write: {e}", out.display())));
         }
         // An existing file must be writable itself (e.g. not /proc/version); opening it for
         // writing without truncating leaves it as it is.
@@ -215,13 +227,12 @@ fn probe_folder(dir: &Path) -> std::io::Result<()> {
     std::fs::remove_file(&probe)
 }
 
-/// The plan format an `--out` path asks for by its extension: `.json` (or stdout `-`, a device
-/// or FIFO such as `/dev/null`, or no `--out`) the plan envelope, `.txt` or `.lacam` LaCAM text;
+/// The plan format an `--out` path asks for by its extension: `.json` (or stdout `-`, a device,
+/// FIFO or stream such as `/dev/null` or `/dev/stdout`, or no `--out`) the plan envelope, `.txt` or `.lacam` LaCAM text;
 /// any other extension is refused (name the format with `--format`).
 pub(crate) fn format_of(out: Option<&Path>) -> Result<crate::family::Format, Fail> {
     use crate::family::Format;
-    let special = |o: &Path| std::fs::metadata(o).is_ok_and(|m| !m.is_file() && !m.is_dir());
-    let Some(out) = out.filter(|o| o.as_os_str() != "-" && !special(o)) else {
+    let Some(out) = out.filter(|o| o.as_os_str() != "-" && !in_place(o)) else {
         return Ok(Format::Json);
     };
     let ext = out

@@ -1201,6 +1201,30 @@ fn outputs_are_checked_before_planning_and_never_harm_inputs_or_devices() {
     let (out, _) = text(&o);
     let env: serde_json::Value = serde_json::from_str(&out).expect("stdout is the plan alone");
     assert_eq!(env["format"], "mrpp-plan/1");
+    // `/dev/stdout` redirected by the caller to a file: written in place (replacing the file
+    // would lose the output), the plan alone.
+    let redirected = tmp("redirected.json");
+    let o = Command::new(env!("CARGO_BIN_EXE_mrpp"))
+        .args([
+            "solve",
+            "-m",
+            &m,
+            "-i",
+            &i,
+            "-N",
+            "5",
+            "-P",
+            "lacam",
+            "-o",
+            "/dev/stdout",
+        ])
+        .stdout(std::fs::File::create(&redirected).unwrap())
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(0), "{:?}", text(&o));
+    let env: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&redirected).unwrap()).unwrap();
+    assert_eq!(env["agents"].as_array().map(Vec::len), Some(5));
     let o = mrpp(&[
         "solve", "-m", &m, "-i", &i, "-N", "5", "-P", "lacam", "--format", "lacam",
     ]);
