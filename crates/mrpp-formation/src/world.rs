@@ -48,6 +48,31 @@ fn default_radius() -> f64 {
     0.3
 }
 
+impl FormationFile {
+    /// Parses the text of a formation file (`path` names it in errors); `map` is left as written.
+    ///
+    /// # Errors
+    /// Malformed JSON or an unknown key (with its line), `robots` outside 1..=64, a radius that is
+    /// not a positive number.
+    pub fn parse(text: &str, path: &Path) -> Result<Self> {
+        let file: FormationFile = serde_json::from_str(text.trim_start_matches('\u{feff}'))
+            .map_err(|e| Error::parse(path, e.line().max(1), e.to_string()))?;
+        if file.robots == 0 || file.robots > 64 {
+            return Err(Error::invalid(
+                path,
+                format!("robots must be between 1 and 64, got {}", file.robots),
+            ));
+        }
+        if !(file.radius.is_finite() && file.radius > 0.0) {
+            return Err(Error::invalid(
+                path,
+                format!("radius must be positive, got {}", file.radius),
+            ));
+        }
+        Ok(file)
+    }
+}
+
 /// A loaded formation: the map, the problem on its roadmap, and the roadmap build time.
 #[derive(Debug, Clone)]
 pub struct Formation {
@@ -64,21 +89,7 @@ impl Formation {
     /// Naming the file: malformed JSON (with its line), absurd numbers, a map error (file:line), a
     /// point outside the free space or seeing no roadmap vertex.
     pub fn load(path: &Path) -> Result<Self> {
-        let text = read_file(path)?;
-        let mut file: FormationFile = serde_json::from_str(&text)
-            .map_err(|e| Error::parse(path, e.line().max(1), e.to_string()))?;
-        if file.robots == 0 || file.robots > 64 {
-            return Err(Error::invalid(
-                path,
-                format!("robots must be between 1 and 64, got {}", file.robots),
-            ));
-        }
-        if !(file.radius.is_finite() && file.radius > 0.0) {
-            return Err(Error::invalid(
-                path,
-                format!("radius must be positive, got {}", file.radius),
-            ));
-        }
+        let mut file = FormationFile::parse(&read_file(path)?, path)?;
         file.map = path.parent().unwrap_or(Path::new("")).join(&file.map);
         let map = PolygonMap::load(&file.map)?;
         Self::on(file, map, path)

@@ -57,7 +57,19 @@ pub struct LorrProblem {
 /// with the lines that follow, a location off the map or on a wall (file and line), fewer agents
 /// than `teamSize`, or fewer usable tasks than agents.
 pub fn load(path: &Path) -> Result<LorrProblem> {
-    let text = read_file(path)?;
+    parse_with(&read_file(path)?, path, &|p: &Path| read_file(p))
+}
+
+/// [`load`] with the problem JSON given as `text` and the map, agent and task files it names
+/// read through `read` (given each file's path, resolved against `path`'s folder).
+///
+/// # Errors
+/// As [`load`], and whatever `read` returns.
+pub fn parse_with(
+    text: &str,
+    path: &Path,
+    read: &dyn Fn(&Path) -> Result<String>,
+) -> Result<LorrProblem> {
     let json: Value = serde_json::from_str(text.trim_start_matches('\u{feff}')).map_err(|e| {
         Error::parse(
             path,
@@ -87,7 +99,7 @@ pub fn load(path: &Path) -> Result<LorrProblem> {
         .unwrap_or("2023")
         .to_string();
 
-    let map = GridMap::load(&map_path)?;
+    let map = GridMap::parse(&read(&map_path)?, &map_path)?.0;
     let vertex = |loc: i64, file: &Path, line: usize| -> Result<VertexId> {
         let w = i64::from(map.width());
         let cells = w * i64::from(map.height());
@@ -108,7 +120,7 @@ pub fn load(path: &Path) -> Result<LorrProblem> {
         })
     };
 
-    let agent_lines = counted_lines(&agent_path)?;
+    let agent_lines = counted_lines(&read(&agent_path)?, &agent_path)?;
     if agent_lines.len() < team {
         return Err(Error::invalid(
             &agent_path,
@@ -123,7 +135,7 @@ pub fn load(path: &Path) -> Result<LorrProblem> {
         starts.push(vertex(int(line, &agent_path, *no)?, &agent_path, *no)?);
     }
     let mut tasks = Vec::new();
-    for (no, line) in counted_lines(&task_path)? {
+    for (no, line) in counted_lines(&read(&task_path)?, &task_path)? {
         let errands = line
             .split(',')
             .map(|f| vertex(int(f, &task_path, no)?, &task_path, no))
@@ -183,8 +195,7 @@ fn int(field: &str, path: &Path, line: usize) -> Result<i64> {
 
 /// The entries of a LoRR agent or task file: `#` comment lines skipped, then a count line, then
 /// exactly that many non-empty lines, each returned with its 1-based line number.
-fn counted_lines(path: &Path) -> Result<Vec<(usize, String)>> {
-    let text = read_file(path)?;
+fn counted_lines(text: &str, path: &Path) -> Result<Vec<(usize, String)>> {
     let mut lines = text
         .lines()
         .enumerate()
