@@ -6,7 +6,8 @@
 //! another robot is in. [`Corridors::route_length`] is A* on this graph: it moves from a node's end
 //! straight to its other end (or to the goal inside it) in one weighted step.
 
-use pathfinding::directed::astar::astar;
+use std::cmp::Reverse;
+use std::collections::BinaryHeap;
 
 use mrpp_core::mapf::graph::{Graph, VertexId};
 
@@ -19,6 +20,43 @@ pub struct Corridors {
     node_of: Vec<NodeId>,
     index_in_node: Vec<u32>,
     cells: Vec<Vec<VertexId>>,
+}
+
+/// The tables of [`Corridors::route_length`], kept between calls: best cost per cell stamped
+/// with the call that set it, and the open list.
+#[derive(Debug, Default)]
+pub struct RouteScratch {
+    cost: Vec<u32>,
+    stamp: Vec<u32>,
+    call: u32,
+    open: BinaryHeap<Reverse<(u32, u32, VertexId)>>,
+}
+
+impl RouteScratch {
+    fn begin(&mut self, num_vertices: usize) {
+        if self.stamp.len() != num_vertices || self.call == u32::MAX {
+            self.cost = vec![0; num_vertices];
+            self.stamp = vec![0; num_vertices];
+            self.call = 0;
+        }
+        self.call += 1;
+        self.open.clear();
+    }
+
+    #[inline]
+    fn best(&self, v: VertexId) -> u32 {
+        if self.stamp[v as usize] == self.call {
+            self.cost[v as usize]
+        } else {
+            u32::MAX
+        }
+    }
+
+    #[inline]
+    fn improve(&mut self, v: VertexId, cost: u32) {
+        self.stamp[v as usize] = self.call;
+        self.cost[v as usize] = cost;
+    }
 }
 
 impl Corridors {
@@ -100,8 +138,18 @@ impl Corridors {
 
     /// Length of a shortest route from `from` to `goal` that enters no node for which
     /// `blocked(node)` holds and never steps on `avoid` (the robot's own cell, so routes cannot
-    /// circle back through it). `None` when there is none. A* over node ends with the Manhattan
-    /// heuristic (edge costs are cell counts, so it stays admissible and consistent).
+    /// circle back through it), if one of at most `limit` steps exists (`None` otherwise, and
+    /// when there is no route at all; `u32::MAX` = no limit).
+    ///
+    /// A* over node ends guided by `h`, a lower bound on the hop distance to `goal` that is
+    /// consistent on the grid (`u32::MAX` = unreachable): the goal's breadth-first distances make
+    /// a route with nothing in the way cost one expansion per node on it; the Manhattan distance
+    /// also works (any consistent bound gives the same length, since only the length is
+    /// returned). Edge costs are cell counts, at least the grid distance they cover, so the
+    /// bound stays consistent on the compressed graph. `scratch` holds the search's tables between
+    /// calls (no allocation per call once it has grown to the map). With the exact bound and a
+    /// `limit`, a neighbour that cannot beat the best route so far costs no search at all.
+    #[allow(clippy::too_many_arguments)]
     pub fn route_length(
         &self,
         g: &Graph,
@@ -109,6 +157,9 @@ impl Corridors {
         goal: VertexId,
         avoid: VertexId,
         blocked: &dyn Fn(NodeId) -> bool,
+        h: &dyn Fn(VertexId) -> u32,
+        limit: u32,
+        scratch: &mut RouteScratch,
     ) -> Option<u32> {
         if from == goal {
             return Some(0);
@@ -116,28 +167,46 @@ impl Corridors {
         if from == avoid || blocked(self.node_of(from)) || blocked(self.node_of(goal)) {
             return None;
         }
-        let successors = |&u: &VertexId| -> Vec<(VertexId, u32)> {
-            let mut out = Vec::with_capacity(4);
+        let h0 = h(from);
+        if h0 == u32::MAX || h0 > limit {
+            return None;
+        }
+        scratch.begin(g.num_vertices());
+        scratch.improve(from, 0);
+        scratch.open.push(Reverse((h0, 0, from)));
+        while let Some(Reverse((_, gu, u))) = scratch.open.pop() {
+            if u == goal {
+                return Some(gu);
+            }
+            if gu > scratch.best(u) {
+                continue; // a stale entry: u was reached cheaper since
+            }
             let nu = self.node_of(u);
             for &w in g.neighbors(u) {
                 if w == avoid {
                     continue;
                 }
                 let nw = self.node_of(w);
-                if nw == nu {
-                    // Moving along our own corridor (only when starting inside it).
-                    if let Some(s) = self.walk(u, w, goal, avoid) {
-                        out.push(s);
-                    }
-                } else if !blocked(nw)
-                    && let Some(s) = self.walk(u, w, goal, avoid)
-                {
-                    out.push(s);
+                // Along our own corridor (only when starting inside it), or into an open node.
+                if nw != nu && blocked(nw) {
+                    continue;
                 }
+                let Some((x, steps)) = self.walk(u, w, goal, avoid) else {
+                    continue;
+                };
+                let gx = gu + steps;
+                if gx >= scratch.best(x) {
+                    continue;
+                }
+                let hx = h(x);
+                if hx == u32::MAX || gx.saturating_add(hx) > limit {
+                    continue;
+                }
+                scratch.improve(x, gx);
+                scratch.open.push(Reverse((gx + hx, gx, x)));
             }
-            out
-        };
-        astar(&from, successors, |&v| g.manhattan(v, goal), |&v| v == goal).map(|(_, cost)| cost)
+        }
+        None
     }
 
     /// Steps from `u` into `w` and on along `w`'s corridor to its far end, stopping early at the
@@ -222,6 +291,54 @@ mod tests {
         }
     }
 
+    /// `route_length` with the Manhattan bound and with the goal's exact distances, which must
+    /// agree (the bound only steers the search).
+    fn route(
+        c: &Corridors,
+        g: &Graph,
+        from: VertexId,
+        goal: VertexId,
+        avoid: VertexId,
+        blocked: &dyn Fn(NodeId) -> bool,
+    ) -> Option<u32> {
+        let d = mrpp_core::mapf::search::distance::bfs_distances(g, goal);
+        let mut scratch = RouteScratch::default();
+        let by_manhattan = c.route_length(
+            g,
+            from,
+            goal,
+            avoid,
+            blocked,
+            &|v| g.manhattan(v, goal),
+            u32::MAX,
+            &mut scratch,
+        );
+        let exact = |v: VertexId| d[v as usize];
+        let by_distance = c.route_length(
+            g,
+            from,
+            goal,
+            avoid,
+            blocked,
+            &exact,
+            u32::MAX,
+            &mut scratch,
+        );
+        assert_eq!(
+            by_manhattan, by_distance,
+            "{from} -> {goal} avoiding {avoid}"
+        );
+        // A limit keeps exactly the routes that fit in it.
+        if let Some(len) = by_manhattan {
+            for limit in len.saturating_sub(2)..=len + 1 {
+                let limited =
+                    c.route_length(g, from, goal, avoid, blocked, &exact, limit, &mut scratch);
+                assert_eq!(limited, (len <= limit).then_some(len), "limit {limit}");
+            }
+        }
+        by_manhattan
+    }
+
     #[test]
     fn route_length_matches_bfs_and_respects_blocks() {
         let m = map("########\n#  ##  #\n#      #\n#  ##  #\n########");
@@ -232,28 +349,49 @@ mod tests {
         let d = mrpp_core::mapf::search::distance::bfs_distances(g, goal);
         let none = |_: NodeId| false;
         assert_eq!(
-            c.route_length(g, from, goal, u32::MAX, &none),
+            route(&c, g, from, goal, u32::MAX, &none),
             Some(d[from as usize])
         );
         // Every cell to every goal equals BFS when nothing is blocked.
         for s in 0..g.num_vertices() as VertexId {
             assert_eq!(
-                c.route_length(g, s, goal, u32::MAX, &none),
+                route(&c, g, s, goal, u32::MAX, &none),
                 Some(d[s as usize]),
                 "from {s}"
             );
         }
         let corridor = c.node_of(m.vertex_at(3, 2).unwrap());
         let blocked = |n: NodeId| n == corridor;
-        assert_eq!(c.route_length(g, from, goal, u32::MAX, &blocked), None);
+        assert_eq!(route(&c, g, from, goal, u32::MAX, &blocked), None);
         // Starting inside the corridor with the cell behind us avoided.
         let inside = m.vertex_at(4, 2).unwrap();
         let behind = m.vertex_at(3, 2).unwrap();
         assert_eq!(
-            c.route_length(g, inside, goal, behind, &none),
+            route(&c, g, inside, goal, behind, &none),
             Some(d[inside as usize])
         );
         let left_goal = m.vertex_at(1, 1).unwrap();
-        assert_eq!(c.route_length(g, inside, left_goal, behind, &none), None);
+        assert_eq!(route(&c, g, inside, left_goal, behind, &none), None);
+    }
+
+    #[test]
+    fn both_bounds_agree_under_every_single_blocked_node_and_avoided_cell() {
+        // Rooms, corridors, a dead end and a loop.
+        let m = map(
+            "##########\n#   #    #\n# # # ## #\n#   #  # #\n## ### # #\n#        #\n##########",
+        );
+        let g = m.graph();
+        let c = Corridors::build(g);
+        let nv = g.num_vertices() as VertexId;
+        for blocked_node in (0..c.num_nodes() as NodeId).step_by(3) {
+            let blocked = |n: NodeId| n == blocked_node;
+            for from in (0..nv).step_by(2) {
+                for goal in (0..nv).step_by(5) {
+                    let avoid = g.neighbors(from).first().copied().unwrap_or(u32::MAX);
+                    route(&c, g, from, goal, avoid, &blocked);
+                    route(&c, g, from, goal, u32::MAX, &blocked);
+                }
+            }
+        }
     }
 }

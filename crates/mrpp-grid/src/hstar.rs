@@ -52,7 +52,7 @@ use rand::seq::IndexedRandom;
 use rand_chacha::ChaCha8Rng;
 use rustc_hash::FxHashSet;
 
-use crate::corridors::{Corridors, NodeId};
+use crate::corridors::{Corridors, NodeId, RouteScratch};
 use mrpp_core::contract::{Ctx, Deadline, Planner, Unsolved};
 use mrpp_core::mapf::graph::{Graph, VertexId};
 use mrpp_core::mapf::instance::Instance;
@@ -197,6 +197,7 @@ pub enum GreedyEnd {
 pub fn greedy_path_search(
     g: &Graph,
     corridors: &Corridors,
+    dist: &GoalDistances,
     inst: &Instance,
     cfg: &HStar,
     rng: &mut ChaCha8Rng,
@@ -221,6 +222,7 @@ pub fn greedy_path_search(
     let mut seen: FxHashSet<Vec<VertexId>> = FxHashSet::default();
     seen.insert(pos.clone());
     let mut choices: Vec<VertexId> = Vec::with_capacity(4);
+    let mut scratch = RouteScratch::default();
     for _step in 0..cap {
         if pos.iter().zip(&inst.goals).all(|(p, g)| p == g) {
             return Ok((paths, GreedyEnd::AllOnGoal));
@@ -254,11 +256,24 @@ pub fn greedy_path_search(
             };
             let mut best = u32::MAX;
             choices.clear();
+            let h = |v: VertexId| dist.get(r, v);
             for &nk in g.neighbors(cur) {
                 if occupied(corridors.node_of(nk)) {
                     continue;
                 }
-                let Some(rest) = corridors.route_length(g, nk, goal, cur, &blocked) else {
+                // Only a route that can still win matters: shorter than the best so far, or
+                // (random ties) as short; the search gives up on longer ones early.
+                let limit = match (best, cfg.tie_break) {
+                    (u32::MAX, _) => u32::MAX,
+                    (b, TieBreak::First) => b.saturating_sub(2),
+                    (b, TieBreak::Random) => b - 1,
+                };
+                if best != u32::MAX && cfg.tie_break == TieBreak::First && best < 2 {
+                    continue;
+                }
+                let Some(rest) =
+                    corridors.route_length(g, nk, goal, cur, &blocked, &h, limit, &mut scratch)
+                else {
                     continue;
                 };
                 let len = 1 + rest;
@@ -442,13 +457,13 @@ fn distances<'g>(
 pub fn reservation_repair(
     g: &Graph,
     inst: &Instance,
+    dist: &GoalDistances,
     paths: &[Vec<VertexId>],
     max_rounds: usize,
     deadline: Deadline,
 ) -> Result<Vec<Vec<VertexId>>, Unsolved> {
     let n = inst.num_agents();
     let nv = g.num_vertices();
-    let dist = distances(g, inst, deadline)?;
     for i in 0..n {
         if dist.get(i, inst.starts[i]) == UNREACHABLE {
             return Err(Unsolved::GaveUp(format!(
@@ -481,7 +496,7 @@ pub fn reservation_repair(
         let mut failed = None;
         for &i in &order {
             let max_time = res.horizon() + nv as u32 + 1;
-            match plan_robot(g, inst, &dist, i, &res, max_time, deadline) {
+            match plan_robot(g, inst, dist, i, &res, max_time, deadline) {
                 Search::Found(p) => {
                     res.reserve_path(&p, 0, true);
                     out[i] = p;
@@ -546,6 +561,7 @@ pub struct PaperStages {
 /// Runs the paper's three steps.
 pub fn paper_stages(
     g: &Graph,
+    dist: &GoalDistances,
     inst: &Instance,
     cfg: &HStar,
     opts: &Ctx,
@@ -553,7 +569,7 @@ pub fn paper_stages(
     let corridors = Corridors::build_until(g, opts.deadline).ok_or(Unsolved::TimeLimit)?;
     let mut rng = ChaCha8Rng::seed_from_u64(opts.seed);
     let (mut paths, greedy_end) =
-        greedy_path_search(g, &corridors, inst, cfg, &mut rng, opts.deadline)?;
+        greedy_path_search(g, &corridors, dist, inst, cfg, &mut rng, opts.deadline)?;
     for p in &mut paths {
         loop_elimination(p);
     }
@@ -579,7 +595,9 @@ impl Planner<MapfProblem> for HStar {
 
     fn plan(&self, problem: &MapfProblem, opts: &Ctx) -> Result<Plan, Unsolved> {
         let (g, inst) = (problem.graph(), problem.instance());
-        let stages = paper_stages(g, inst, self, opts)?;
+        // Every robot's goal distances, shared by all stages.
+        let dist = distances(g, inst, opts.deadline)?;
+        let stages = paper_stages(g, &dist, inst, self, opts)?;
         let short: Vec<usize> = (0..inst.num_agents())
             .filter(|&i| stages.paths[i].last() != Some(&inst.goals[i]))
             .collect();
@@ -607,6 +625,7 @@ impl Planner<MapfProblem> for HStar {
                 match reservation_repair(
                     g,
                     inst,
+                    &dist,
                     &stages.paths,
                     self.max_repair_rounds,
                     opts.deadline,
@@ -624,7 +643,14 @@ impl Planner<MapfProblem> for HStar {
             }
         };
         if self.variant == Variant::Repaired {
-            local_replanning(g, inst, &mut paths, self.replanning_passes, opts.deadline)?;
+            local_replanning(
+                g,
+                inst,
+                &dist,
+                &mut paths,
+                self.replanning_passes,
+                opts.deadline,
+            )?;
         }
         if let Ok(mut slot) = self.finished_by.lock() {
             *slot = Some(finished_by);
@@ -689,13 +715,13 @@ pub fn complete_with_lacam(
 pub fn local_replanning(
     g: &Graph,
     inst: &Instance,
+    dist: &GoalDistances,
     paths: &mut [Vec<VertexId>],
     passes: usize,
     deadline: Deadline,
 ) -> Result<(), Unsolved> {
     const PAIR_CANDIDATES: usize = 3;
     let n = inst.num_agents();
-    let dist = distances(g, inst, deadline)?;
     let ideal = |i: usize| dist.get(i, inst.starts[i]) as usize;
     let cost = |p: &[VertexId], i: usize| {
         mrpp_core::mapf::plan::path_cost(
@@ -727,7 +753,7 @@ pub fn local_replanning(
             let Some(bound) = left.checked_sub(others) else {
                 return Ok(None);
             };
-            match plan_robot(g, inst, &dist, i, &res, bound as u32, deadline) {
+            match plan_robot(g, inst, dist, i, &res, bound as u32, deadline) {
                 Search::Found(p) => {
                     res.reserve_path(&p, 0, true);
                     left -= cost(&p, i).min(left);

@@ -90,6 +90,7 @@ enum Store {
 
 impl Store {
     /// The distance of `v` (not for `Packed`, which knows distances only modulo 3).
+    #[inline]
     fn get(&self, v: usize) -> u32 {
         match self {
             Store::Unallocated | Store::Packed(_) => UNREACHABLE,
@@ -330,6 +331,12 @@ impl<'g> GoalDistances<'g> {
         if let Some(done) = &self.complete {
             return done[i].get(v as usize);
         }
+        self.get_lazy(i, v)
+    }
+
+    /// [`GoalDistances::get`] on a table that may still grow (locked).
+    #[inline(never)]
+    fn get_lazy(&self, i: usize, v: VertexId) -> u32 {
         self.tables[i]
             .lock()
             .unwrap_or_else(std::sync::PoisonError::into_inner)

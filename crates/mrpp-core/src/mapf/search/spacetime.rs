@@ -174,10 +174,13 @@ impl Reservations {
 
 /// The best `g` of each `(vertex, time)` state and whether it was expanded: a dense table over
 /// the query's time span when it is small enough (the usual case), else a hash map.
-enum Seen {
-    /// `(v, t)` at `(t - t0) * nv + v`; 0 = unseen, else `g + 1`, with [`CLOSED`] set once expanded.
+enum Seen<'s> {
+    /// `(v, t)` at `(t - t0) * nv + v`, in the calling thread's [`DenseScratch`]: an entry is
+    /// `stamp << 32 | x` where `x` is `g + 1` with [`CLOSED`] set once expanded, and an entry with
+    /// another stamp (an earlier query's) counts as unseen, so nothing is cleared between queries.
     Dense {
-        cells: Vec<u32>,
+        cells: &'s mut [u64],
+        stamp: u64,
         nv: usize,
         t0: u32,
     },
@@ -186,29 +189,48 @@ enum Seen {
 
 const CLOSED: u32 = 1 << 31;
 
-/// Dense tables up to this many states (4 bytes each): beyond, zeroing the table costs more than
-/// hashing the few states a search visits (HCA* on random-32-32-20 with 100 agents: 16 ms with
-/// hashing, 28 ms with 737 k-state dense tables).
-const DENSE_STATES: usize = 1 << 18;
+/// Dense tables up to this many states (8 bytes each, 32 MiB): they are kept per thread and
+/// never cleared (entries carry the query's stamp), so a query touches only the states it visits;
+/// beyond, a hash map.
+const DENSE_STATES: usize = 1 << 22;
 
-impl Seen {
-    fn new(nv: usize, t0: u32, span: usize) -> Self {
-        match nv.checked_mul(span) {
-            Some(n) if n <= DENSE_STATES => Seen::Dense {
-                cells: vec![0; n],
-                nv,
-                t0,
-            },
-            _ => Seen::Hash(FxHashMap::default()),
+/// One thread's dense table, reused by every query on that thread.
+#[derive(Default)]
+struct DenseScratch {
+    cells: Vec<u64>,
+    stamp: u32,
+}
+
+thread_local! {
+    static DENSE: std::cell::RefCell<DenseScratch> = std::cell::RefCell::default();
+}
+
+impl DenseScratch {
+    /// A fresh stamp for a query over `n` states (a new, lazily zeroed table when it must grow
+    /// or the stamps wrap).
+    fn begin(&mut self, n: usize) -> u64 {
+        if self.cells.len() < n || self.stamp == u32::MAX {
+            self.cells = vec![0; n.max(self.cells.len())];
+            self.stamp = 0;
         }
+        self.stamp += 1;
+        u64::from(self.stamp)
     }
+}
 
+impl Seen<'_> {
     #[inline]
     fn get(&self, v: VertexId, t: u32) -> Option<(u32, bool)> {
         match self {
-            Seen::Dense { cells, nv, t0 } => {
+            Seen::Dense {
+                cells,
+                stamp,
+                nv,
+                t0,
+            } => {
                 let c = *cells.get((t - t0) as usize * nv + v as usize)?;
-                (c != 0).then(|| ((c & !CLOSED) - 1, c & CLOSED != 0))
+                let x = c as u32;
+                (c >> 32 == *stamp).then(|| ((x & !CLOSED) - 1, x & CLOSED != 0))
             }
             Seen::Hash(m) => m.get(&(v, t)).copied(),
         }
@@ -217,9 +239,15 @@ impl Seen {
     #[inline]
     fn set(&mut self, v: VertexId, t: u32, g: u32, closed: bool) {
         match self {
-            Seen::Dense { cells, nv, t0 } => {
+            Seen::Dense {
+                cells,
+                stamp,
+                nv,
+                t0,
+            } => {
                 if let Some(c) = cells.get_mut((t - *t0) as usize * *nv + v as usize) {
-                    *c = (g + 1) | if closed { CLOSED } else { 0 };
+                    let x = (g + 1) | if closed { CLOSED } else { 0 };
+                    *c = (*stamp << 32) | u64::from(x);
                 }
             }
             Seen::Hash(m) => {
@@ -264,6 +292,27 @@ pub enum Search {
 /// higher `g`, a goal reserved late no longer makes the search expand every `(cell, time)` state
 /// before `T_goal`; a goal parked on forever is answered at once (`NotFound`).
 pub fn space_time_astar(q: &Query, res: &Reservations) -> Search {
+    let end_time = q.window.map(|w| q.start_time + w);
+    let last_time = end_time.unwrap_or(q.max_time);
+    let nv = q.graph.num_vertices();
+    let span = last_time.saturating_sub(q.start_time) as usize + 1;
+    match nv.checked_mul(span) {
+        Some(n) if n <= DENSE_STATES => DENSE.with_borrow_mut(|scratch| {
+            let stamp = scratch.begin(n);
+            let mut seen = Seen::Dense {
+                cells: &mut scratch.cells[..n],
+                stamp,
+                nv,
+                t0: q.start_time,
+            };
+            search(q, res, &mut seen)
+        }),
+        _ => search(q, res, &mut Seen::Hash(FxHashMap::default())),
+    }
+}
+
+/// [`space_time_astar`] with its table of seen states.
+fn search(q: &Query, res: &Reservations, seen: &mut Seen) -> Search {
     if !res.vertex_free(q.start, q.start_time) {
         return Search::NotFound;
     }
@@ -291,14 +340,7 @@ pub fn space_time_astar(q: &Query, res: &Reservations) -> Search {
     // (f, g, insertion order, node index, terminal): max-heap on lower f, then higher g.
     type Entry = (Reverse<u32>, u32, Reverse<u32>, u32, bool);
     let mut open: BinaryHeap<Entry> = BinaryHeap::new();
-    // Per state: best g so far, and whether it has been expanded (closed).
     let end_time = q.window.map(|w| q.start_time + w);
-    let last_time = end_time.unwrap_or(q.max_time);
-    let mut seen = Seen::new(
-        q.graph.num_vertices(),
-        q.start_time,
-        last_time.saturating_sub(q.start_time) as usize + 1,
-    );
     let mut counter = 0u32;
     nodes.push(Node {
         v: q.start,
