@@ -7,5 +7,5 @@ mod common;
 
 fuzz_target!(|text: &str| {
     let map = common::map();
-    let _ = mrpp_grid::scen::parse_agents(text, std::path::Path::new("fuzz.scen"), &map, None);
+    let _ = mrpp_grid::scen::parse_agents(text, std::path::Path::new("fuzz.scen"), map, None);
 });

@@ -9,7 +9,7 @@ mod common;
 fuzz_target!(|text: &str| {
     let map = common::map();
     if let Ok((problem, plan, _)) =
-        mrpp_grid::io::plan_json::read_grid_plan(&map, text, std::path::Path::new("fuzz.json"))
+        mrpp_grid::io::plan_json::read_grid_plan(map, text, std::path::Path::new("fuzz.json"))
     {
         let _ = problem.validate(&plan);
     }

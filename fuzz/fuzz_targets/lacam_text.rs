@@ -10,10 +10,9 @@ mod common;
 fuzz_target!(|text: &str| {
     let map = common::map();
     let path = std::path::Path::new("fuzz.txt");
-    if let Ok((inst, plan, claims)) =
-        mrpp_grid::io::lacam::parse_lacam_with_claims(text, path, &map)
+    if let Ok((inst, plan, claims)) = mrpp_grid::io::lacam::parse_lacam_with_claims(text, path, map)
     {
-        let problem = mrpp_grid::problem_on(&map, inst);
+        let problem = mrpp_grid::problem_on(map, inst);
         if let Ok(m) = problem.validate(&plan) {
             let _ = claims.check(
                 path,
