@@ -58,6 +58,7 @@ use mrpp_core::mapf::graph::{Graph, VertexId};
 use mrpp_core::mapf::instance::Instance;
 use mrpp_core::mapf::plan::{Plan, first_conflict, position};
 use mrpp_core::mapf::search::distance::{GoalDistances, UNREACHABLE};
+use mrpp_core::mapf::search::sipp::sipp;
 use mrpp_core::mapf::search::spacetime::{Query, Reservations, Search, space_time_astar};
 use mrpp_core::{MapfProblem, Param, PlannerEntry};
 
@@ -415,6 +416,12 @@ pub fn collision_elimination(
 
 /// Space-time A* for robot `i` from its start at time 0 against `res`, arriving by `max_time`,
 /// guided by its goal's distance table `dist`.
+///
+/// SIPP ([`sipp`]) answers first: it finds the same earliest arrival as space-time A* in far
+/// fewer states, so a robot that cannot arrive by `max_time` (most queries of
+/// [`local_replanning`]) costs one SIPP search. When it can, space-time A* runs with `max_time`
+/// set to that arrival: the states it then skips could never be expanded before the goal, so the
+/// path is the one the unbounded search returns (plans do not depend on SIPP's tie-breaking).
 fn plan_robot(
     g: &Graph,
     inst: &Instance,
@@ -425,7 +432,7 @@ fn plan_robot(
     deadline: Deadline,
 ) -> Search {
     let h = |v: VertexId| dist.get(i, v);
-    let q = Query {
+    let mut q = Query {
         graph: g,
         start: inst.starts[i],
         goal: inst.goals[i],
@@ -435,7 +442,13 @@ fn plan_robot(
         window: None,
         deadline,
     };
-    space_time_astar(&q, res)
+    match sipp(&q, res) {
+        Search::Found(p) => {
+            q.max_time = p.len() as u32 - 1;
+            space_time_astar(&q, res)
+        }
+        other => other,
+    }
 }
 
 /// Every robot's goal distances, grown to its start before `deadline` (lazy tables: memory per
