@@ -223,6 +223,9 @@ pub fn greedy_path_search(
     let mut seen: FxHashSet<Vec<VertexId>> = FxHashSet::default();
     seen.insert(pos.clone());
     let mut choices: Vec<VertexId> = Vec::with_capacity(4);
+    // Per robot and step: (lower bound, neighbour index, neighbour), and the shortest found.
+    let mut candidates: Vec<(u32, usize, VertexId)> = Vec::with_capacity(4);
+    let mut ties: Vec<(usize, VertexId)> = Vec::with_capacity(4);
     let mut scratch = RouteScratch::default();
     for _step in 0..cap {
         if pos.iter().zip(&inst.goals).all(|(p, g)| p == g) {
@@ -255,23 +258,26 @@ pub fn greedy_path_search(
                 TargetOccupancy::BlocksWhenParked if node == target => parked[node as usize] > 0,
                 _ => occupied(node),
             };
-            let mut best = u32::MAX;
-            choices.clear();
+            // Algorithm 1 takes the first strictly shortest route in neighbour order (or, with
+            // random ties, any of the shortest). The neighbours are searched cheapest lower bound
+            // first (the goal distance of `n_k`), so that once a route of the least possible
+            // length is found the others cost no search; ties are then put back in neighbour
+            // order, which leaves the choice (and the random stream) as in neighbour order.
             let h = |v: VertexId| dist.get(r, v);
-            for &nk in g.neighbors(cur) {
-                if occupied(corridors.node_of(nk)) {
-                    continue;
+            candidates.clear();
+            for (k, &nk) in g.neighbors(cur).iter().enumerate() {
+                if !occupied(corridors.node_of(nk)) && h(nk) != u32::MAX {
+                    candidates.push((h(nk), k, nk));
                 }
-                // Only a route that can still win matters: shorter than the best so far, or
-                // (random ties) as short; the search gives up on longer ones early.
-                let limit = match (best, cfg.tie_break) {
-                    (u32::MAX, _) => u32::MAX,
-                    (b, TieBreak::First) => b.saturating_sub(2),
-                    (b, TieBreak::Random) => b - 1,
-                };
-                if best != u32::MAX && cfg.tie_break == TieBreak::First && best < 2 {
-                    continue;
+            }
+            candidates.sort_unstable();
+            let mut best = u32::MAX;
+            ties.clear();
+            for &(lower, k, nk) in &candidates {
+                if best != u32::MAX && 1 + lower > best {
+                    break; // sorted by lower bound: no later neighbour can tie either
                 }
+                let limit = best.saturating_sub(1);
                 let Some(rest) =
                     corridors.route_length(g, nk, goal, cur, &blocked, &h, limit, &mut scratch)
                 else {
@@ -280,11 +286,17 @@ pub fn greedy_path_search(
                 let len = 1 + rest;
                 if len < best {
                     best = len;
-                    choices.clear();
-                    choices.push(nk);
-                } else if len == best && cfg.tie_break == TieBreak::Random {
-                    choices.push(nk);
+                    ties.clear();
                 }
+                if len == best {
+                    ties.push((k, nk));
+                }
+            }
+            ties.sort_unstable();
+            choices.clear();
+            match cfg.tie_break {
+                TieBreak::First => choices.extend(ties.first().map(|&(_, nk)| nk)),
+                TieBreak::Random => choices.extend(ties.iter().map(|&(_, nk)| nk)),
             }
             let chosen = match cfg.tie_break {
                 TieBreak::First => choices.first().copied(),
