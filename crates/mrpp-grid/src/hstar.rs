@@ -761,47 +761,81 @@ pub fn local_replanning(
         .collect();
     // Plans `order` one after another against every path except theirs, their costs summing to at
     // most `budget` (each robot needs at least its distance); None if that is impossible.
-    let replan = |paths: &[Vec<VertexId>],
+    // Every path is reserved once; a re-planning takes its robots' paths out, plans them, and
+    // puts the table back as it was (the table is the same as one built afresh, since each
+    // vertex's reservations are kept sorted).
+    let mut res = Reservations::new(g.num_vertices());
+    for p in paths.iter() {
+        res.reserve_path(p, 0, true);
+    }
+    let replan = |res: &mut Reservations,
+                  paths: &[Vec<VertexId>],
                   order: &[usize],
                   budget: usize|
      -> Result<Option<Vec<Vec<VertexId>>>, Unsolved> {
-        let mut res = Reservations::new(g.num_vertices());
-        for (j, p) in paths.iter().enumerate() {
-            if !order.contains(&j) {
-                res.reserve_path(p, 0, true);
-            }
+        for &i in order {
+            res.release_path(&paths[i], 0, true);
         }
-        let mut out = Vec::with_capacity(order.len());
+        let mut out: Vec<Vec<VertexId>> = Vec::with_capacity(order.len());
         let mut left = budget;
+        let mut outcome = Ok(None);
         for (k, &i) in order.iter().enumerate() {
             let others: usize = order[k + 1..].iter().map(|&j| ideal(j)).sum();
             let Some(bound) = left.checked_sub(others) else {
-                return Ok(None);
+                break;
             };
-            match plan_robot(g, inst, dist, i, &res, bound as u32, deadline) {
+            match plan_robot(g, inst, dist, i, res, bound as u32, deadline) {
                 Search::Found(p) => {
                     res.reserve_path(&p, 0, true);
                     left -= cost(&p, i).min(left);
                     out.push(p);
                 }
-                Search::TimedOut => return Err(Unsolved::TimeLimit),
-                Search::NotFound => return Ok(None),
+                Search::TimedOut => {
+                    outcome = Err(Unsolved::TimeLimit);
+                    break;
+                }
+                Search::NotFound => break,
             }
         }
-        Ok(Some(out))
+        for p in &out {
+            res.release_path(p, 0, true);
+        }
+        for &i in order {
+            res.reserve_path(&paths[i], 0, true);
+        }
+        if out.len() == order.len() {
+            outcome = Ok(Some(out));
+        }
+        outcome
     };
+    // Replaces robot i's path, in the paths and in the table.
+    let replace = |res: &mut Reservations, paths: &mut [Vec<VertexId>], i: usize, p| {
+        res.release_path(&paths[i], 0, true);
+        paths[i] = p;
+        res.reserve_path(&paths[i], 0, true);
+    };
+    // A re-planning depends only on the paths: one that changed nothing is not tried again
+    // until some path changes (`version` counts the changes).
+    let mut version = 0u64;
+    let mut fruitless: rustc_hash::FxHashMap<Vec<usize>, u64> = Default::default();
     for _ in 0..passes {
         let mut order: Vec<usize> = (0..n).filter(|&i| cost(&paths[i], i) > ideal(i)).collect();
         order.sort_by_key(|&i| (std::cmp::Reverse(cost(&paths[i], i) - ideal(i)), i));
         let mut improved = false;
         for &i in &order {
             let current = cost(&paths[i], i);
-            if current > ideal(i)
-                && let Some(mut p) = replan(paths, &[i], current - 1)?
-                && cost(&p[0], i) < current
-            {
-                paths[i] = p.remove(0);
-                improved = true;
+            if current <= ideal(i) || fruitless.get(&[i][..]) == Some(&version) {
+                continue;
+            }
+            match replan(&mut res, paths, &[i], current - 1)? {
+                Some(mut p) if cost(&p[0], i) < current => {
+                    replace(&mut res, paths, i, p.remove(0));
+                    version += 1;
+                    improved = true;
+                }
+                _ => {
+                    fruitless.insert(vec![i], version);
+                }
             }
         }
         for &i in &order {
@@ -816,7 +850,11 @@ pub fn local_replanning(
                 let before = cost(&paths[i], i) + cost(&paths[j], j);
                 let mut best: Option<(usize, Vec<Vec<VertexId>>)> = None;
                 for pair in [[i, j], [j, i]] {
-                    if let Some(ps) = replan(paths, &pair, before - 1)? {
+                    if fruitless.get(&pair[..]) == Some(&version) {
+                        continue;
+                    }
+                    let mut better = false;
+                    if let Some(ps) = replan(&mut res, paths, &pair, before - 1)? {
                         let total = cost(&ps[0], pair[0]) + cost(&ps[1], pair[1]);
                         if total < before && best.as_ref().is_none_or(|(b, _)| total < *b) {
                             let mut ordered = ps;
@@ -824,12 +862,17 @@ pub fn local_replanning(
                                 ordered.swap(0, 1);
                             }
                             best = Some((total, ordered));
+                            better = true;
                         }
+                    }
+                    if !better {
+                        fruitless.insert(pair.to_vec(), version);
                     }
                 }
                 if let Some((_, mut ps)) = best {
-                    paths[j] = ps.pop().expect("two paths");
-                    paths[i] = ps.pop().expect("two paths");
+                    replace(&mut res, paths, j, ps.pop().expect("two paths"));
+                    replace(&mut res, paths, i, ps.pop().expect("two paths"));
+                    version += 1;
                     improved = true;
                     break;
                 }
