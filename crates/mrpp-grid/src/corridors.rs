@@ -6,9 +6,6 @@
 //! another robot is in. [`Corridors::route_length`] is A* on this graph: it moves from a node's end
 //! straight to its other end (or to the goal inside it) in one weighted step.
 
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
-
 use mrpp_core::mapf::graph::{Graph, VertexId};
 
 /// Node id in the compressed graph.
@@ -23,13 +20,16 @@ pub struct Corridors {
 }
 
 /// The tables of [`Corridors::route_length`], kept between calls: best cost per cell stamped
-/// with the call that set it, and the open list.
+/// with the call that set it, and the open list as buckets of equal `f` (a consistent bound
+/// makes `f` never decrease along the search, so the least bucket is found by a cursor).
 #[derive(Debug, Default)]
 pub struct RouteScratch {
     cost: Vec<u32>,
     stamp: Vec<u32>,
     call: u32,
-    open: BinaryHeap<Reverse<(u32, u32, VertexId)>>,
+    /// `buckets[f - f0]`: the `(g, cell)` entries of that `f`; `used` buckets are in use.
+    buckets: Vec<Vec<(u32, VertexId)>>,
+    used: usize,
 }
 
 impl RouteScratch {
@@ -40,7 +40,33 @@ impl RouteScratch {
             self.call = 0;
         }
         self.call += 1;
-        self.open.clear();
+        for b in &mut self.buckets[..self.used] {
+            b.clear();
+        }
+        self.used = 0;
+    }
+
+    /// Queues `(g, v)` at `f` (`f >= f0`).
+    #[inline]
+    fn push(&mut self, f0: u32, f: u32, g: u32, v: VertexId) {
+        let k = (f - f0) as usize;
+        if k >= self.buckets.len() {
+            self.buckets.resize_with(k + 1, Vec::new);
+        }
+        self.used = self.used.max(k + 1);
+        self.buckets[k].push((g, v));
+    }
+
+    /// The next entry of least `f`, from bucket `cursor` on (which it advances).
+    #[inline]
+    fn pop(&mut self, cursor: &mut usize) -> Option<(u32, VertexId)> {
+        while *cursor < self.used {
+            if let Some(e) = self.buckets[*cursor].pop() {
+                return Some(e);
+            }
+            *cursor += 1;
+        }
+        None
     }
 
     #[inline]
@@ -173,8 +199,9 @@ impl Corridors {
         }
         scratch.begin(g.num_vertices());
         scratch.improve(from, 0);
-        scratch.open.push(Reverse((h0, 0, from)));
-        while let Some(Reverse((_, gu, u))) = scratch.open.pop() {
+        scratch.push(h0, h0, 0, from);
+        let mut cursor = 0;
+        while let Some((gu, u)) = scratch.pop(&mut cursor) {
             if u == goal {
                 return Some(gu);
             }
@@ -203,7 +230,7 @@ impl Corridors {
                     continue;
                 }
                 scratch.improve(x, gx);
-                scratch.open.push(Reverse((gx + hx, gx, x)));
+                scratch.push(h0, gx + hx, gx, x);
             }
         }
         None
