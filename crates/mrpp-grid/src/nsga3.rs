@@ -423,13 +423,20 @@ pub struct RouteSelection<'a> {
 /// Time-stamped occupancy of the current and previous step (reused across evaluations).
 #[derive(Default)]
 struct Occupancy {
-    /// Per layer (`t % 2`) and vertex: the stamp of the step it was last occupied at.
-    stamp: Vec<u64>,
-    /// The first robot seen there at that step, and how many robots.
-    who: Vec<u32>,
-    count: Vec<u32>,
+    /// Per layer (`t % 2`) and vertex.
+    cells: Vec<OccupiedAt>,
     /// Stamp of step 0 of the current evaluation.
     base: u64,
+}
+
+/// One vertex at one step of [`Occupancy`].
+#[derive(Clone, Copy)]
+struct OccupiedAt {
+    /// The stamp of the step the vertex was last occupied at.
+    stamp: u64,
+    /// The first robot seen there at that step, and how many robots.
+    who: u32,
+    count: u32,
 }
 
 impl<'a> RouteSelection<'a> {
@@ -452,13 +459,6 @@ impl<'a> RouteSelection<'a> {
 
     fn route(&self, i: usize, c: Choice) -> &[VertexId] {
         &self.routes[i][c.route as usize]
-    }
-
-    /// Where robot `i` stands at `t` under `c` (its goal once arrived).
-    #[inline]
-    fn position(&self, i: usize, c: Choice, t: usize) -> VertexId {
-        let r = self.route(i, c);
-        r[t.saturating_sub(c.delay as usize).min(r.len() - 1)]
     }
 
     /// Robot `i`'s cost: the step it reaches its goal (0 when it starts there).
@@ -505,18 +505,38 @@ impl<'a> RouteSelection<'a> {
 /// has no vertex and no swap conflict (a swap next to a vertex conflict may go uncounted, but that
 /// vertex conflict is counted).
 pub fn count_conflicts(sel: &RouteSelection, genome: &[Choice]) -> u64 {
-    let n = genome.len();
-    let horizon = (0..n)
-        .map(|i| genome[i].delay as usize + sel.route(i, genome[i]).len() - 1)
-        .max()
-        .unwrap_or(0);
+    // Each robot's route and delay, looked up once: where robot i stands at t.
+    // (route, delay, arrival): before `delay` the robot is on the route's first vertex, from
+    // `arrival` on on its last.
+    let tracks: Vec<(&[VertexId], usize, usize)> = genome
+        .iter()
+        .enumerate()
+        .map(|(i, &c)| {
+            let r = sel.route(i, c);
+            (r, c.delay as usize, c.delay as usize + r.len() - 1)
+        })
+        .collect();
+    let at = |i: usize, t: usize| {
+        let (r, d, a) = tracks[i];
+        if t <= d {
+            r[0]
+        } else if t >= a {
+            r[r.len() - 1]
+        } else {
+            r[t - d]
+        }
+    };
+    let horizon = tracks.iter().map(|&(_, _, a)| a).max().unwrap_or(0);
     let v = sel.num_vertices;
     let mut guard = sel.scratch.borrow_mut();
     let occ = &mut *guard;
-    if occ.stamp.len() != 2 * v {
-        occ.stamp = vec![u64::MAX; 2 * v];
-        occ.who = vec![0; 2 * v];
-        occ.count = vec![0; 2 * v];
+    if occ.cells.len() != 2 * v {
+        let empty = OccupiedAt {
+            stamp: u64::MAX,
+            who: 0,
+            count: 0,
+        };
+        occ.cells = vec![empty; 2 * v];
     }
     let base = occ.base;
     occ.base += horizon as u64 + 2;
@@ -525,20 +545,24 @@ pub fn count_conflicts(sel: &RouteSelection, genome: &[Choice]) -> u64 {
         let stamp = base + t as u64;
         let cur = (t & 1) * v;
         let prev = v - cur;
-        for (i, &c) in genome.iter().enumerate() {
-            let p = sel.position(i, c, t) as usize;
-            if occ.stamp[cur + p] == stamp {
-                conflicts += occ.count[cur + p] as u64;
-                occ.count[cur + p] += 1;
+        for i in 0..tracks.len() {
+            let p = at(i, t) as usize;
+            let cell = &mut occ.cells[cur + p];
+            if cell.stamp == stamp {
+                conflicts += u64::from(cell.count);
+                cell.count += 1;
             } else {
-                occ.stamp[cur + p] = stamp;
-                occ.who[cur + p] = i as u32;
-                occ.count[cur + p] = 1;
+                *cell = OccupiedAt {
+                    stamp,
+                    who: i as u32,
+                    count: 1,
+                };
             }
-            if t > 0 && occ.stamp[prev + p] == stamp - 1 {
-                let u = sel.position(i, c, t - 1);
-                let j = occ.who[prev + p] as usize;
-                if u as usize != p && j > i && sel.position(j, genome[j], t) == u {
+            let before = occ.cells[prev + p];
+            if t > 0 && before.stamp == stamp - 1 {
+                let u = at(i, t - 1);
+                let j = before.who as usize;
+                if u as usize != p && j > i && at(j, t) == u {
                     conflicts += 1;
                 }
             }
