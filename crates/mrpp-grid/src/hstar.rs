@@ -266,8 +266,9 @@ pub fn greedy_path_search(
             let h = |v: VertexId| dist.get(r, v);
             candidates.clear();
             for (k, &nk) in g.neighbors(cur).iter().enumerate() {
-                if !occupied(corridors.node_of(nk)) && h(nk) != u32::MAX {
-                    candidates.push((h(nk), k, nk));
+                let lower = h(nk);
+                if !occupied(corridors.node_of(nk)) && lower != u32::MAX {
+                    candidates.push((lower, k, nk));
                 }
             }
             candidates.sort_unstable();

@@ -218,6 +218,12 @@ impl DenseScratch {
     }
 }
 
+/// The index of `(v, t)` in a dense table over `nv` vertices from time `t0`.
+#[inline]
+fn slot(nv: usize, t0: u32, v: VertexId, t: u32) -> usize {
+    (t - t0) as usize * nv + v as usize
+}
+
 impl Seen<'_> {
     #[inline]
     fn get(&self, v: VertexId, t: u32) -> Option<(u32, bool)> {
@@ -228,7 +234,7 @@ impl Seen<'_> {
                 nv,
                 t0,
             } => {
-                let c = *cells.get((t - t0) as usize * nv + v as usize)?;
+                let c = *cells.get(slot(*nv, *t0, v, t))?;
                 let x = c as u32;
                 (c >> 32 == *stamp).then(|| ((x & !CLOSED) - 1, x & CLOSED != 0))
             }
@@ -245,7 +251,7 @@ impl Seen<'_> {
                 nv,
                 t0,
             } => {
-                if let Some(c) = cells.get_mut((t - *t0) as usize * *nv + v as usize) {
+                if let Some(c) = cells.get_mut(slot(*nv, *t0, v, t)) {
                     let x = (g + 1) | if closed { CLOSED } else { 0 };
                     *c = (*stamp << 32) | u64::from(x);
                 }
