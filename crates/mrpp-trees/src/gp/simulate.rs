@@ -29,6 +29,10 @@ const NONE: u32 = u32::MAX;
 /// Branch nodes cached per node, nearest first (bounds the cache at 64·|N| entries).
 const CACHED_BRANCHES: usize = 64;
 
+/// Trees of at most this many nodes get a next-hop table of |N|² entries (8 MiB at the limit);
+/// larger ones answer path questions from [`RootedTree`] (DFS intervals, O(log degree)).
+pub const HOP_TABLE_MAX_NODES: usize = 2048;
+
 /// What becomes of a robot's path once it stands on the branch node it set its path to.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum BranchArrival {
@@ -89,6 +93,8 @@ pub struct Problem {
     graph: Graph,
     inst: Instance,
     tree: RootedTree,
+    /// The next-hop table, up to [`HOP_TABLE_MAX_NODES`] nodes.
+    hops: Option<HopTable>,
     is_branch: Vec<bool>,
     has_branch: bool,
     /// Per node, the branch nodes in BFS order from it (adjacency order), computed on first use
@@ -117,10 +123,12 @@ impl Problem {
         }
         let is_branch: Vec<bool> = (0..n as VertexId).map(|v| tree.is_branch(v)).collect();
         let has_branch = is_branch.iter().any(|&b| b);
+        let hops = (n <= HOP_TABLE_MAX_NODES).then(|| HopTable::new(graph));
         Ok(Problem {
             graph: graph.clone(),
             inst: inst.clone(),
             tree,
+            hops,
             is_branch,
             has_branch,
             branch_order: (0..n).map(|_| OnceLock::new()).collect(),
@@ -202,6 +210,83 @@ impl Problem {
     }
 }
 
+/// The path questions the simulator asks of the tree (paths are unique), answered by a
+/// [`HopTable`] on trees of up to [`HOP_TABLE_MAX_NODES`] nodes and by the [`RootedTree`] (DFS
+/// intervals, O(log degree)) on larger ones; the simulator is compiled once for each.
+trait TreePaths {
+    /// The node after `u` on the path from `u` to `v` (`u` itself when `u == v`).
+    fn next_hop(&self, u: VertexId, v: VertexId) -> VertexId;
+    /// Whether `x` lies on the path from `u` to `v`, ends included; `u != v` is required.
+    fn on_path(&self, x: VertexId, u: VertexId, v: VertexId) -> bool;
+}
+
+impl TreePaths for RootedTree {
+    #[inline]
+    fn next_hop(&self, u: VertexId, v: VertexId) -> VertexId {
+        RootedTree::next_hop(self, u, v)
+    }
+
+    #[inline]
+    fn on_path(&self, x: VertexId, u: VertexId, v: VertexId) -> bool {
+        RootedTree::on_path(self, x, u, v)
+    }
+}
+
+/// `hop[u·|N| + v]`: the node after `u` on the path from `u` to `v` (`u` when `u == v`), |N|²
+/// entries of 2 bytes.
+#[derive(Debug, Clone)]
+struct HopTable {
+    n: usize,
+    hop: Box<[u16]>,
+}
+
+impl HopTable {
+    /// For every node `u`, a walk from each neighbour `w` labels everything beyond it with `w`.
+    /// O(|N|²); `g` must be a tree of at most [`HOP_TABLE_MAX_NODES`] nodes.
+    fn new(g: &Graph) -> Self {
+        let n = g.num_vertices();
+        assert!(n <= HOP_TABLE_MAX_NODES);
+        let mut hop = vec![0u16; n * n];
+        let mut stack: Vec<(VertexId, VertexId)> = Vec::new();
+        for u in 0..n as VertexId {
+            let row = &mut hop[u as usize * n..(u as usize + 1) * n];
+            row[u as usize] = u as u16;
+            for &w in g.neighbors(u) {
+                stack.push((w, u));
+                while let Some((x, from)) = stack.pop() {
+                    row[x as usize] = w as u16;
+                    stack.extend(
+                        g.neighbors(x)
+                            .iter()
+                            .filter(|&&y| y != from)
+                            .map(|&y| (y, x)),
+                    );
+                }
+            }
+        }
+        HopTable {
+            n,
+            hop: hop.into_boxed_slice(),
+        }
+    }
+}
+
+impl TreePaths for HopTable {
+    #[inline]
+    fn next_hop(&self, u: VertexId, v: VertexId) -> VertexId {
+        VertexId::from(self.hop[u as usize * self.n + v as usize])
+    }
+
+    /// The first steps from `x` toward `u` and toward `v` differ exactly when `x` is on the path
+    /// (at an end, one of them is `x` itself).
+    #[inline]
+    fn on_path(&self, x: VertexId, u: VertexId, v: VertexId) -> bool {
+        debug_assert_ne!(u, v);
+        let row = x as usize * self.n;
+        self.hop[row + u as usize] != self.hop[row + v as usize]
+    }
+}
+
 /// Why a run stopped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Stop {
@@ -245,8 +330,10 @@ pub fn run_program(
     record: bool,
     deadline: Deadline,
 ) -> Outcome {
-    let mut sim = Sim::new(problem, opts, record);
-    sim.run(program, cap, deadline)
+    match &problem.hops {
+        Some(table) => Sim::new(problem, table, opts, record).run(program, cap, deadline),
+        None => Sim::new(problem, &problem.tree, opts, record).run(program, cap, deadline),
+    }
 }
 
 /// Runs `program` with the paper's cap M and returns its plan when every robot visits its goal.
@@ -295,8 +382,9 @@ struct State {
     tried: Vec<u64>,
 }
 
-struct Sim<'a> {
+struct Sim<'a, T: TreePaths> {
     p: &'a Problem,
+    paths_of: &'a T,
     o: &'a SimOptions,
     s: State,
     words: usize,
@@ -309,16 +397,14 @@ struct Sim<'a> {
     unsolved: usize,
     record: bool,
     paths: Vec<Vec<VertexId>>,
-    // Scratch.
-    net: Vec<u32>,
+    /// Where each robot's current path leads: `branch` when set, else its goal (kept in step with
+    /// `s.branch` by [`Sim::set_path`]).
+    tgt: Vec<VertexId>,
     /// The nodes within ρ hops of each node, in BFS order (adjacency order), node `v`'s at
-    /// `ball[ball_at[v]..ball_at[v + 1]]`.
+    /// `ball[ball_at[v]..ball_at[v + 1]]`: the robots on them (but `v`'s own) are the network c(r)
+    /// of a robot on `v`.
     ball: Vec<VertexId>,
     ball_at: Vec<u32>,
-    /// (robot, [`Sim::moves`]) the list in `net` was computed for.
-    net_key: (usize, u64),
-    /// Moves made so far (any robot): positions are unchanged while it is.
-    moves: u64,
 }
 
 /// For every node, the nodes within `radius` hops in BFS order (the node first), flattened.
@@ -348,8 +434,8 @@ fn balls(g: &Graph, radius: u32) -> (Vec<VertexId>, Vec<u32>) {
     (ball, ball_at)
 }
 
-impl<'a> Sim<'a> {
-    fn new(p: &'a Problem, o: &'a SimOptions, record: bool) -> Self {
+impl<'a, T: TreePaths> Sim<'a, T> {
+    fn new(p: &'a Problem, paths_of: &'a T, o: &'a SimOptions, record: bool) -> Self {
         let n = p.graph.num_vertices();
         let r = p.num_robots();
         let words = n.div_ceil(64);
@@ -366,6 +452,7 @@ impl<'a> Sim<'a> {
         let (ball, ball_at) = balls(&p.graph, o.radius);
         Sim {
             p,
+            paths_of,
             o,
             s: State {
                 pos: p.inst.starts.clone(),
@@ -387,9 +474,7 @@ impl<'a> Sim<'a> {
             } else {
                 Vec::new()
             },
-            net: Vec::new(),
-            net_key: (usize::MAX, 0),
-            moves: 0,
+            tgt: p.inst.goals.clone(),
             ball,
             ball_at,
         }
@@ -474,22 +559,21 @@ impl<'a> Sim<'a> {
     /// Where robot `i`'s current path leads: the branch it set its path to, else its goal.
     #[inline]
     fn target(&self, i: usize) -> VertexId {
-        let b = self.s.branch[i];
-        if b != NONE { b } else { self.p.inst.goals[i] }
+        self.tgt[i]
+    }
+
+    /// Sets robot `i`'s path to branch `b`, or back to its goal with `NONE`.
+    #[inline]
+    fn set_path(&mut self, i: usize, b: VertexId) {
+        self.s.branch[i] = b;
+        self.tgt[i] = if b != NONE { b } else { self.p.inst.goals[i] };
     }
 
     /// The next node on robot `i`'s current path (None when the path is empty).
     #[inline]
     fn next_on_path(&self, i: usize) -> Option<VertexId> {
         let (u, t) = (self.s.pos[i], self.target(i));
-        (u != t).then(|| self.p.tree.next_hop(u, t))
-    }
-
-    /// Node `x` lies on robot `j`'s current path (its own node excluded).
-    #[inline]
-    fn on_path_of(&self, j: usize, x: VertexId) -> bool {
-        let (u, t) = (self.s.pos[j], self.target(j));
-        u != t && x != u && self.p.tree.on_path(x, u, t)
+        (u != t).then(|| self.paths_of.next_hop(u, t))
     }
 
     /// Robot `j` is travelling to a branch node it has not reached yet.
@@ -520,24 +604,28 @@ impl<'a> Sim<'a> {
         }
     }
 
-    /// c(r_i): the robots within ρ hops of robot `i`, nearest first (BFS in adjacency order).
-    /// Callers hand the list back (`self.net = net`): it stays valid, and is reused, until a robot
-    /// moves (a decision often tests the network more than once).
-    fn network(&mut self, i: usize) -> Vec<u32> {
-        let mut net = std::mem::take(&mut self.net);
-        if self.net_key == (i, self.moves) {
-            return net;
-        }
-        self.net_key = (i, self.moves);
-        net.clear();
+    /// The first robot of c(r_i) (the robots within ρ hops of robot `i`, nearest first: BFS in
+    /// adjacency order) for which `hit` holds.
+    #[inline]
+    fn find_in_network(
+        &self,
+        i: usize,
+        mut hit: impl FnMut(VertexId, usize) -> bool,
+    ) -> Option<usize> {
         let v = self.s.pos[i] as usize;
-        for &w in &self.ball[self.ball_at[v] as usize..self.ball_at[v + 1] as usize] {
+        // The ball starts with `v` itself, where robot `i` stands.
+        let ball = &self.ball[self.ball_at[v] as usize + 1..self.ball_at[v + 1] as usize];
+        ball.iter().find_map(|&w| {
             let r = self.occ[w as usize];
-            if r != NONE && r as usize != i {
-                net.push(r);
-            }
-        }
-        net
+            (r != NONE && hit(w, r as usize)).then_some(r as usize)
+        })
+    }
+
+    /// Robot `j`, standing on `w`, has node `x` (not `w`) on its current path.
+    #[inline]
+    fn on_path_at(&self, j: usize, w: VertexId, x: VertexId) -> bool {
+        let t = self.tgt[j];
+        t != w && self.paths_of.on_path(x, w, t)
     }
 
     /// The branch node nearest to robot `i` that it has not chosen before (ties: BFS order). When
@@ -574,13 +662,13 @@ impl<'a> Sim<'a> {
     /// Robot `i` sets its path to branch `b`.
     fn set_branch(&mut self, i: usize, b: VertexId) {
         match self.o.branch_arrival {
-            BranchArrival::Hold => self.s.branch[i] = b,
+            BranchArrival::Hold => self.set_path(i, b),
             BranchArrival::Resume => {
                 if self.s.pos[i] == b {
-                    self.s.branch[i] = NONE;
+                    self.set_path(i, NONE);
                     self.s.at_branch[i] = b;
                 } else {
-                    self.s.branch[i] = b;
+                    self.set_path(i, b);
                     self.s.at_branch[i] = NONE;
                 }
             }
@@ -595,7 +683,6 @@ impl<'a> Sim<'a> {
         if !self.free(v) {
             return false;
         }
-        self.moves += 1;
         self.occ[u as usize] = NONE;
         self.vacated[u as usize] = self.stamp;
         self.occ[v as usize] = i as u32;
@@ -608,7 +695,7 @@ impl<'a> Sim<'a> {
         if self.o.branch_arrival == BranchArrival::Resume {
             self.s.at_branch[i] = NONE;
             if self.s.branch[i] == v {
-                self.s.branch[i] = NONE;
+                self.set_path(i, NONE);
                 self.s.at_branch[i] = v;
             }
         }
@@ -620,13 +707,10 @@ impl<'a> Sim<'a> {
     fn test(&mut self, c: Conditional, i: usize) -> bool {
         match c {
             Conditional::TwoRobotsOnEachOthersPath => {
-                let net = self.network(i);
                 let me = self.s.pos[i];
-                let partner = net
-                    .iter()
-                    .map(|&j| j as usize)
-                    .find(|&j| self.on_path_of(j, me) && self.on_path_of(i, self.s.pos[j]));
-                self.net = net;
+                let partner = self.find_in_network(i, |w, j| {
+                    self.on_path_at(j, w, me) && self.on_path_at(i, me, w)
+                });
                 let Some(j) = partner else {
                     return false;
                 };
@@ -647,7 +731,7 @@ impl<'a> Sim<'a> {
                     let b = self.s.branch[i];
                     if b != NONE && b == self.s.pos[i] {
                         // Arrived: the path goes back to the objective.
-                        self.s.branch[i] = NONE;
+                        self.set_path(i, NONE);
                         true
                     } else {
                         false
@@ -663,18 +747,13 @@ impl<'a> Sim<'a> {
             Conditional::NeighborOnPathIsFree => self.next_on_path(i).is_some_and(|v| self.free(v)),
             Conditional::RobotIsSolved => self.s.solved[i],
             Conditional::OnPathOfRobotInNetwork => {
-                let net = self.network(i);
                 let me = self.s.pos[i];
-                let hit = net.iter().any(|&j| self.on_path_of(j as usize, me));
-                self.net = net;
-                hit
+                self.find_in_network(i, |w, j| self.on_path_at(j, w, me))
+                    .is_some()
             }
-            Conditional::RobotInNetworkMovingToBranch => {
-                let net = self.network(i);
-                let hit = net.iter().any(|&j| self.moving_to_branch(j as usize));
-                self.net = net;
-                hit
-            }
+            Conditional::RobotInNetworkMovingToBranch => self
+                .find_in_network(i, |_, j| self.moving_to_branch(j))
+                .is_some(),
         }
     }
 
@@ -688,7 +767,7 @@ impl<'a> Sim<'a> {
                 }
                 let b = self.s.branch[i];
                 if b != NONE && b != self.s.pos[i] {
-                    let v = self.p.tree.next_hop(self.s.pos[i], b);
+                    let v = self.paths_of.next_hop(self.s.pos[i], b);
                     self.try_move(i, v);
                 }
             }
@@ -743,6 +822,32 @@ mod tests {
         let g = Graph::from_edges(5, &[(0, 1), (1, 2), (2, 3), (2, 4)]);
         let inst = Instance::new(vec![0, 1], vec![1, 0]).unwrap();
         Problem::new(&g, &inst).unwrap()
+    }
+
+    #[test]
+    fn hop_table_answers_like_the_rooted_tree() {
+        use crate::generator::{ProblemSpec, RobotCount, generate_problem};
+        let mut spec = ProblemSpec::paper(7, RobotCount::Exactly(3));
+        spec.branching = 5;
+        let t = generate_problem(&spec, 1).unwrap();
+        let p = Problem::from_tree_instance(&t);
+        let n = p.graph().num_vertices() as VertexId;
+        assert!(n > 64, "{n} nodes");
+        let h = p.hops.as_ref().expect("a table for a small tree");
+        for u in 0..n {
+            for v in 0..n {
+                assert_eq!(h.next_hop(u, v), p.tree.next_hop(u, v), "{u}->{v}");
+                if u != v {
+                    for x in 0..n {
+                        assert_eq!(
+                            h.on_path(x, u, v),
+                            p.tree.on_path(x, u, v),
+                            "{x} on {u}-{v}"
+                        );
+                    }
+                }
+            }
+        }
     }
 
     #[test]
