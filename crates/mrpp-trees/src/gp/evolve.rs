@@ -32,11 +32,13 @@
 
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use std::sync::{Arc, OnceLock};
+
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
-use crate::gp::program::{Gene, Program};
-use crate::gp::simulate::{Problem, SimOptions, Stop, run_program};
+use crate::gp::program::{Gene, Program, Shape};
+use crate::gp::simulate::{Problem, SimOptions, Stop, run_program, run_program_marking};
 use mrpp_core::contract::Deadline;
 use mrpp_core::error::{Error, Result};
 use mrpp_core::seeds::derive_seed;
@@ -204,24 +206,44 @@ pub fn calculate_fitness(
     tau_b: Option<u64>,
     deadline: Deadline,
 ) -> Evaluation {
+    calculate_fitness_marking(program, problems, params, tau_b, deadline, &mut []).0
+}
+
+/// [`calculate_fitness`], also returning the program's nodes that some decision passed through
+/// on some example (a bitset over node indices; see [`run_program_marking`]) unless `reached`
+/// is given empty.
+fn calculate_fitness_marking(
+    program: &Program,
+    problems: &[Problem],
+    params: &GpParams,
+    tau_b: Option<u64>,
+    deadline: Deadline,
+    reached: &mut [u64],
+) -> (Evaluation, bool) {
     let mut e = Evaluation {
         fitness: 0,
         steps: 0,
     };
+    let mut complete = true;
     for p in problems {
         let own = params.example_cap(p);
         let cap = match tau_b {
             Some(b) => own.min(b.saturating_sub(e.steps)),
             None => own,
         };
-        let out = run_program(program, p, &params.sim, cap, false, deadline);
+        let out = if reached.is_empty() {
+            run_program(program, p, &params.sim, cap, false, deadline)
+        } else {
+            run_program_marking(program, p, &params.sim, cap, deadline, reached)
+        };
         e.fitness = e.fitness.saturating_add(out.fitness);
         e.steps = e.steps.saturating_add(out.steps);
         if out.stop == Stop::TimeLimit {
             e.fitness = e.fitness.max(1);
+            complete = false;
         }
     }
-    e
+    (e, complete)
 }
 
 /// Reported after each evaluated generation.
@@ -264,6 +286,10 @@ pub struct GpResult {
     /// Simulations of a whole fitness set run (duplicates within a generation and programs seen
     /// before under the same τ_B are looked up instead).
     pub evaluations: u64,
+    /// Children that took their parent's fitness without a simulation: the subtree that
+    /// crossover or mutation replaced was never reached by any decision of the parent's runs
+    /// (under the same τ_B), so the child's runs are the parent's, step for step.
+    pub inherited: u64,
     pub stop: GpStop,
 }
 
@@ -286,25 +312,37 @@ pub fn evolve(
     let mut tau_b: Option<u64> = None;
     let mut best: Option<Program> = None;
     let mut champion: Option<(Program, u64)> = None;
-    let mut cache: FxHashMap<Vec<Gene>, Evaluation> = FxHashMap::default();
+    let mut cache: Cache = FxHashMap::default();
     let mut done = 0usize;
-    let mut evaluations = 0u64;
+    let (mut evaluations, mut inherited) = (0u64, 0u64);
     let mut stop = GpStop::Finished;
     'runs: for run in 0..params.runs {
         let mut pop = initial_population(params, seed, run);
+        let mut origins = vec![Origin::New; pop.len()];
+        let mut parents: Option<Evaluated> = None;
         for generation in 0..params.generations {
             if deadline.expired() {
                 stop = GpStop::TimeLimit;
                 break 'runs;
             }
-            let (evals, fresh) =
-                evaluate_population(&pop, problems, params, tau_b, &mut cache, deadline);
+            let (gen_eval, fresh, heirs) = evaluate_population(
+                &pop,
+                &origins,
+                parents.as_ref(),
+                problems,
+                params,
+                tau_b,
+                &mut cache,
+                deadline,
+            );
             if deadline.expired() {
                 // Runs cut by the deadline may be incomplete: drop this generation.
                 stop = GpStop::TimeLimit;
                 break 'runs;
             }
             evaluations += fresh;
+            inherited += heirs;
+            let evals = &gen_eval.evals;
             done += 1;
             // Lines 8-10.
             let mut gen_best = u64::MAX;
@@ -332,7 +370,8 @@ pub fn evolve(
                 break 'runs;
             }
             if generation + 1 < params.generations {
-                pop = next_generation(&pop, &evals, params, seed, run, generation);
+                (pop, origins) = breed(&pop, evals, params, seed, run, generation);
+                parents = Some(gen_eval);
             }
         }
     }
@@ -348,6 +387,7 @@ pub fn evolve(
         champion_fitness,
         generations: done,
         evaluations,
+        inherited,
         stop,
     })
 }
@@ -381,38 +421,131 @@ pub fn initial_population(params: &GpParams, seed: u64, run: usize) -> Vec<Progr
         .collect()
 }
 
-/// Line 7 for the whole population, in parallel; each distinct program is simulated once per τ_B.
-/// Returns the evaluations in population order and the number of fresh simulations.
+/// Evaluations seen before, by program, under the current τ_B: the evaluation and the program's
+/// reached nodes (see [`run_program_marking`]).
+type Cache = FxHashMap<Vec<Gene>, (Evaluation, Arc<[u64]>)>;
+
+/// Where a program of a generation came from: what lets a child take its parent's fitness
+/// without a simulation.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Origin {
+    /// Drawn at random (a first generation).
+    New,
+    /// A copy of parent `k` (reproduction, or an operation that fell back to its parent).
+    Copy(usize),
+    /// Parent `parent` with one subtree replaced.
+    Edit { parent: usize, edit: Edit },
+}
+
+/// A subtree replacement: the subtree at node `at`, of `removed` nodes, became `inserted` nodes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Edit {
+    at: usize,
+    removed: usize,
+    inserted: usize,
+}
+
+/// One evaluated generation: evaluations and reached-node bitsets in population order, and the
+/// τ_B they were made under.
+struct Evaluated {
+    evals: Vec<Evaluation>,
+    reached: Vec<Arc<[u64]>>,
+    tau_b: Option<u64>,
+}
+
+/// A parent's reached nodes carried over to a child made by `edit`, which lies in unreached
+/// code: nodes before the subtree keep their index, nodes after it move by the size change.
+fn carry_reached(reached: &[u64], edit: Edit, child_len: usize) -> Arc<[u64]> {
+    let mut out = vec![0u64; child_len.div_ceil(64)];
+    for (w, &word) in reached.iter().enumerate() {
+        let mut bits = word;
+        while bits != 0 {
+            let k = w * 64 + bits.trailing_zeros() as usize;
+            bits &= bits - 1;
+            debug_assert!(k < edit.at || k >= edit.at + edit.removed);
+            let to = if k < edit.at {
+                k
+            } else {
+                k - edit.removed + edit.inserted
+            };
+            out[to / 64] |= 1 << (to % 64);
+        }
+    }
+    out.into()
+}
+
+/// Line 7 for the whole population, in parallel. Each distinct program is simulated once per
+/// τ_B, and a child whose edit lies in code its parent never reached (under the same τ_B) takes
+/// the parent's evaluation: its runs are the parent's, decision for decision. Returns the
+/// evaluations, the number of fresh simulations and the number of inherited evaluations.
+#[allow(clippy::too_many_arguments)]
 fn evaluate_population(
     pop: &[Program],
+    origins: &[Origin],
+    parents: Option<&Evaluated>,
     problems: &[Problem],
     params: &GpParams,
     tau_b: Option<u64>,
-    cache: &mut FxHashMap<Vec<Gene>, Evaluation>,
+    cache: &mut Cache,
     deadline: Deadline,
-) -> (Vec<Evaluation>, u64) {
+) -> (Evaluated, u64, u64) {
     // Bound the cache's memory (it only saves time; clearing it changes no result).
     if cache.len() > 200_000 {
         cache.clear();
     }
-    // Distinct programs not in the cache, in order of first appearance.
+    let parents = parents.filter(|g| g.tau_b == tau_b);
+    let mut inherited = 0u64;
+    // Distinct programs neither in the cache nor heirs, in order of first appearance.
     let mut todo: Vec<usize> = Vec::new();
     let mut first: FxHashMap<&[Gene], usize> = FxHashMap::default();
+    let mut slots: Vec<Option<(Evaluation, Arc<[u64]>)>> = vec![None; pop.len()];
     for (k, p) in pop.iter().enumerate() {
-        if !cache.contains_key(p.genes()) && !first.contains_key(p.genes()) {
+        let heir = parents.and_then(|g| match origins[k] {
+            Origin::Copy(parent) => Some((g.evals[parent], g.reached[parent].clone())),
+            Origin::Edit { parent, edit } => {
+                let r = &g.reached[parent];
+                let hit = r[edit.at / 64] >> (edit.at % 64) & 1 == 1;
+                (!hit).then(|| (g.evals[parent], carry_reached(r, edit, p.len())))
+            }
+            Origin::New => None,
+        });
+        if heir.is_some() {
+            inherited += 1;
+            slots[k] = heir;
+        } else if let Some(v) = cache.get(p.genes()) {
+            slots[k] = Some(v.clone());
+        } else if !first.contains_key(p.genes()) {
             first.insert(p.genes(), k);
             todo.push(k);
         }
     }
-    let fresh: Vec<Evaluation> = todo
+    let fresh: Vec<(Evaluation, Arc<[u64]>)> = todo
         .par_iter()
-        .map(|&k| calculate_fitness(&pop[k], problems, params, tau_b, deadline))
+        .map(|&k| {
+            let mut reached = vec![0u64; pop[k].len().div_ceil(64)];
+            let (e, _) =
+                calculate_fitness_marking(&pop[k], problems, params, tau_b, deadline, &mut reached);
+            (e, reached.into())
+        })
         .collect();
-    for (&k, e) in todo.iter().zip(&fresh) {
-        cache.insert(pop[k].genes().to_vec(), *e);
+    let simulated = fresh.len() as u64;
+    for (&k, v) in todo.iter().zip(fresh) {
+        cache.insert(pop[k].genes().to_vec(), v);
     }
-    let evals = pop.iter().map(|p| cache[p.genes()]).collect();
-    (evals, fresh.len() as u64)
+    let (evals, reached) = slots
+        .into_iter()
+        .zip(pop)
+        .map(|(slot, p)| slot.unwrap_or_else(|| cache[p.genes()].clone()))
+        .unzip();
+    (
+        Evaluated {
+            evals,
+            reached,
+            tau_b,
+        },
+        simulated,
+        inherited,
+    )
 }
 
 /// Roulette over α_k = β_k / Σβ with β_k = 1 / (1 + F_k).
@@ -452,6 +585,18 @@ pub fn next_generation(
     run: usize,
     generation: usize,
 ) -> Vec<Program> {
+    breed(pop, evals, params, seed, run, generation).0
+}
+
+/// [`next_generation`] with the origin of every child.
+fn breed(
+    pop: &[Program],
+    evals: &[Evaluation],
+    params: &GpParams,
+    seed: u64,
+    run: usize,
+    generation: usize,
+) -> (Vec<Program>, Vec<Origin>) {
     #[derive(Clone, Copy)]
     enum Op {
         Copy,
@@ -471,35 +616,50 @@ pub fn next_generation(
     }
     ops.extend(std::iter::repeat_n(Op::Mutate, n_m));
     let wheel = Roulette::new(evals);
-    let children: Vec<Vec<Program>> = ops
+    let shapes: Vec<OnceLock<Shape>> = (0..n).map(|_| OnceLock::new()).collect();
+    let parent = |k: usize| (&pop[k], shapes[k].get_or_init(|| Shape::of(&pop[k])));
+    let origin = |parent: usize, edit: Option<Edit>| match edit {
+        Some(edit) => Origin::Edit { parent, edit },
+        None => Origin::Copy(parent),
+    };
+    let children: Vec<Vec<(Program, Origin)>> = ops
         .par_iter()
         .enumerate()
         .map(|(o, op)| {
             let mut rng = stream(seed, &format!("gp/breed/{run}/{generation}/{o}"));
             match *op {
-                Op::Copy => vec![pop[wheel.pick(&mut rng)].clone()],
+                Op::Copy => {
+                    let a = wheel.pick(&mut rng);
+                    vec![(pop[a].clone(), Origin::Copy(a))]
+                }
                 Op::Cross(k) => {
-                    let a = &pop[wheel.pick(&mut rng)];
-                    let b = &pop[wheel.pick(&mut rng)];
-                    let (c, d) = genetic_crossover(a, b, params, &mut rng);
-                    if k == 2 { vec![c, d] } else { vec![c] }
+                    let a = wheel.pick(&mut rng);
+                    let b = wheel.pick(&mut rng);
+                    let ((c, ec), (d, ed)) =
+                        crossover_edits(parent(a), parent(b), params, &mut rng);
+                    let mut kids = vec![(c, origin(a, ec))];
+                    if k == 2 {
+                        kids.push((d, origin(b, ed)));
+                    }
+                    kids
                 }
                 Op::Mutate => {
-                    let a = &pop[wheel.pick(&mut rng)];
-                    vec![mutation(a, params, &mut rng)]
+                    let a = wheel.pick(&mut rng);
+                    let (c, e) = mutation_edit(parent(a), params, &mut rng);
+                    vec![(c, origin(a, e))]
                 }
             }
         })
         .collect();
-    children.into_iter().flatten().collect()
+    children.into_iter().flatten().unzip()
 }
 
 /// Redraws of crossover or mutation points before a parent is copied instead.
 const TRIES: usize = 8;
 
-fn depth_ok(p: &Program, params: &GpParams) -> bool {
-    let d = p.depth();
-    (params.min_depth..=params.max_depth).contains(&d)
+/// A child's depth lies within the bounds.
+fn depth_ok(depth: usize, params: &GpParams) -> bool {
+    (params.min_depth..=params.max_depth).contains(&depth)
 }
 
 /// Subtree crossover (§4.4): a uniform node in each parent, the subtrees swapped; each child that
@@ -510,44 +670,75 @@ pub fn genetic_crossover(
     params: &GpParams,
     rng: &mut ChaCha8Rng,
 ) -> (Program, Program) {
+    let ((c, _), (d, _)) = crossover_edits((a, &Shape::of(a)), (b, &Shape::of(b)), params, rng);
+    (c, d)
+}
+
+/// A child and the edit that made it from its parent (`None`: a copy of the parent).
+type Child = (Program, Option<Edit>);
+
+/// [`genetic_crossover`] with each child's edit of its own parent.
+/// Each child is only built once its depth, known from the parents' [`Shape`]s, is within the
+/// bounds.
+fn crossover_edits(
+    (a, sa): (&Program, &Shape),
+    (b, sb): (&Program, &Shape),
+    params: &GpParams,
+    rng: &mut ChaCha8Rng,
+) -> (Child, Child) {
     let mut c = None;
     let mut d = None;
     for _ in 0..TRIES {
         let i = rng.random_range(0..a.len());
         let j = rng.random_range(0..b.len());
-        if c.is_none() {
-            let x = a.replace_subtree(i, b.subtree(j));
-            if depth_ok(&x, params) {
-                c = Some(x);
-            }
+        let (ei, ej) = (sa.end(i), sb.end(j));
+        if c.is_none() && depth_ok(sa.depth_with(i, sb.height(j)), params) {
+            let edit = Edit {
+                at: i,
+                removed: ei - i,
+                inserted: ej - j,
+            };
+            c = Some((a.splice(i, ei, &b.genes()[j..ej]), Some(edit)));
         }
-        if d.is_none() {
-            let y = b.replace_subtree(j, a.subtree(i));
-            if depth_ok(&y, params) {
-                d = Some(y);
-            }
+        if d.is_none() && depth_ok(sb.depth_with(j, sa.height(i)), params) {
+            let edit = Edit {
+                at: j,
+                removed: ej - j,
+                inserted: ei - i,
+            };
+            d = Some((b.splice(j, ej, &a.genes()[i..ei]), Some(edit)));
         }
         if c.is_some() && d.is_some() {
             break;
         }
     }
     (
-        c.unwrap_or_else(|| a.clone()),
-        d.unwrap_or_else(|| b.clone()),
+        c.unwrap_or_else(|| (a.clone(), None)),
+        d.unwrap_or_else(|| (b.clone(), None)),
     )
 }
 
 /// Subtree mutation (§4.4): a uniform node and its subtree replaced by a grown random subtree.
 pub fn mutation(a: &Program, params: &GpParams, rng: &mut ChaCha8Rng) -> Program {
+    mutation_edit((a, &Shape::of(a)), params, rng).0
+}
+
+/// [`mutation`] with the child's edit of its parent.
+fn mutation_edit((a, sa): (&Program, &Shape), params: &GpParams, rng: &mut ChaCha8Rng) -> Child {
     for _ in 0..TRIES {
         let i = rng.random_range(0..a.len());
         let fresh = Program::grow_subtree(rng, params.mutation_depth);
-        let x = a.replace_subtree(i, fresh.genes());
-        if depth_ok(&x, params) {
-            return x;
+        if depth_ok(sa.depth_with(i, fresh.depth()), params) {
+            let end = sa.end(i);
+            let edit = Edit {
+                at: i,
+                removed: end - i,
+                inserted: fresh.len(),
+            };
+            return (a.splice(i, end, fresh.genes()), Some(edit));
         }
     }
-    a.clone()
+    (a.clone(), None)
 }
 
 #[cfg(test)]
@@ -697,5 +888,74 @@ mod tests {
             .is_err()
         );
         assert!(GpParams::paper().check().is_ok());
+    }
+
+    #[test]
+    fn shapes_predict_the_children_of_subtree_swaps() {
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        for _ in 0..40 {
+            let a = Program::grow(&mut rng, 5);
+            let b = Program::grow(&mut rng, 4);
+            let (sa, sb) = (Shape::of(&a), Shape::of(&b));
+            for i in 0..a.len() {
+                assert_eq!(sa.end(i), a.subtree_end(i));
+                for j in 0..b.len() {
+                    let child = a.replace_subtree(i, b.subtree(j));
+                    assert_eq!(sa.depth_with(i, sb.height(j)), child.depth());
+                    assert_eq!(a.splice(i, sa.end(i), b.subtree(j)), child);
+                }
+            }
+        }
+    }
+
+    /// The inheritance rule of `evaluate_population`: a child edited only in code its parent's
+    /// runs never reached has the parent's evaluation and (carried) reached set, as a fresh
+    /// simulation confirms; bloated programs make such edits common.
+    #[test]
+    fn children_edited_in_unreached_code_run_like_their_parent() {
+        let spec = ProblemSpec::paper(5, RobotCount::LeavesMinusOne);
+        let t = generate_problem(&spec, 3).unwrap();
+        let problems = [Problem::from_tree_instance(&t)];
+        let params = GpParams::default();
+        let run = |p: &Program, tau| {
+            let mut reached = vec![0u64; p.len().div_ceil(64)];
+            let (e, complete) = calculate_fitness_marking(
+                p,
+                &problems,
+                &params,
+                tau,
+                Deadline::none(),
+                &mut reached,
+            );
+            assert!(complete);
+            (e, reached)
+        };
+        let mut rng = ChaCha8Rng::seed_from_u64(9);
+        let mut checked = 0;
+        for round in 0..60 {
+            let parent = Program::full(&mut rng, 4);
+            let tau = (round % 2 == 0).then_some(30);
+            let (e, reached) = run(&parent, tau);
+            let unreached: Vec<usize> = (0..parent.len())
+                .filter(|&k| reached[k / 64] >> (k % 64) & 1 == 0)
+                .collect();
+            if unreached.is_empty() {
+                continue;
+            }
+            let at = unreached[rng.random_range(0..unreached.len())];
+            let fresh = Program::grow_subtree(&mut rng, 3);
+            let end = parent.subtree_end(at);
+            let child = parent.replace_subtree(at, fresh.genes());
+            let edit = Edit {
+                at,
+                removed: end - at,
+                inserted: fresh.len(),
+            };
+            let (ce, creached) = run(&child, tau);
+            assert_eq!(ce, e, "round {round}");
+            assert_eq!(&*carry_reached(&reached, edit, child.len()), &creached[..]);
+            checked += 1;
+        }
+        assert!(checked >= 20, "only {checked} programs had unreached code");
     }
 }

@@ -107,8 +107,9 @@ pub fn gp(
     gp_with_effort(graph, inst, params, seed, deadline, progress).0
 }
 
-/// [`gp`], with the evolution's effort `(generations, evaluations)` whether or not a program
-/// solved the instance (`(0, 0)` when the evolution never started).
+/// [`gp`], with the evolution's effort `(generations, evaluations, inherited)` (see
+/// [`GpResult`]) whether or not a program solved the instance (zeros when the evolution never
+/// started).
 pub fn gp_with_effort(
     graph: &Graph,
     inst: &Instance,
@@ -116,13 +117,13 @@ pub fn gp_with_effort(
     seed: u64,
     deadline: Deadline,
     progress: &mut dyn FnMut(&GpProgress),
-) -> (Result<GpSolution, Unsolved>, (usize, u64)) {
+) -> (Result<GpSolution, Unsolved>, (usize, u64, u64)) {
     let problem = match Problem::new(graph, inst) {
         Ok(p) => p,
         Err(e) => {
             return (
                 Err(Unsolved::GaveUp(format!("GP needs a tree: {e}"))),
-                (0, 0),
+                (0, 0, 0),
             );
         }
     };
@@ -134,9 +135,9 @@ pub fn gp_with_effort(
         progress,
     ) {
         Ok(r) => r,
-        Err(e) => return (Err(Unsolved::GaveUp(e.to_string())), (0, 0)),
+        Err(e) => return (Err(Unsolved::GaveUp(e.to_string())), (0, 0, 0)),
     };
-    let effort = (result.generations, result.evaluations);
+    let effort = (result.generations, result.evaluations, result.inherited);
     (solution_of(result, &problem, params), effort)
 }
 
@@ -300,8 +301,8 @@ pub struct Gp {
     /// A saved program to run instead of evolving one.
     saved: Option<Program>,
     evolved: Mutex<Option<GpSolution>>,
-    /// `(generations, evaluations)` of the last evolution, solved or not.
-    effort: Mutex<(usize, u64)>,
+    /// `(generations, evaluations, inherited)` of the last evolution, solved or not.
+    effort: Mutex<(usize, u64, u64)>,
 }
 
 impl Gp {
@@ -310,14 +311,14 @@ impl Gp {
             params,
             saved: None,
             evolved: Mutex::new(None),
-            effort: Mutex::new((0, 0)),
+            effort: Mutex::new((0, 0, 0)),
         }
     }
 
-    /// `(generations, evaluations)` of the last evolution, whether or not it solved the
-    /// instance (a failed run's cost belongs in the results too).
-    pub fn effort(&self) -> (usize, u64) {
-        self.effort.lock().map_or((0, 0), |e| *e)
+    /// `(generations, evaluations, inherited)` of the last evolution (see [`GpResult`]), whether
+    /// or not it solved the instance (a failed run's cost belongs in the results too).
+    pub fn effort(&self) -> (usize, u64, u64) {
+        self.effort.lock().map_or((0, 0, 0), |e| *e)
     }
 
     /// This planner running `program` (a saved ψ*) instead of evolving one: the plan of its run
@@ -380,7 +381,7 @@ impl Planner<MapfProblem> for Gp {
 
     /// The program of the last plan (`program`, one-line S-expression; `program_nodes`,
     /// `program_depth`) and its evolution (`generations`, `evaluations`; absent for a saved
-    /// program).
+    /// program; `inherited`: evaluations taken from a parent without a simulation).
     fn notes(&self) -> serde_json::Map<String, serde_json::Value> {
         let mut m = serde_json::Map::new();
         if let Some(p) = &self.saved {
@@ -393,10 +394,11 @@ impl Planner<MapfProblem> for Gp {
                 m.insert("program_nodes".into(), s.program.len().into());
                 m.insert("program_depth".into(), s.program.depth().into());
             }
-            let (generations, evaluations) = self.effort();
+            let (generations, evaluations, inherited) = self.effort();
             if evaluations > 0 {
                 m.insert("generations".into(), generations.into());
                 m.insert("evaluations".into(), evaluations.into());
+                m.insert("inherited".into(), inherited.into());
             }
         }
         m
@@ -494,7 +496,7 @@ mod tests {
             let opts = Ctx::new(seed, Deadline::none());
             if solve_tree(&planner, &t.graph, &t.instance, &opts, true).is_err() {
                 failed += 1;
-                let (generations, evaluations) = planner.effort();
+                let (generations, evaluations, _) = planner.effort();
                 assert_eq!(generations, 2, "seed {seed}");
                 assert!(evaluations > 0, "seed {seed}");
                 let notes = planner.notes();

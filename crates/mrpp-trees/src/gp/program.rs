@@ -226,6 +226,18 @@ impl Program {
         Program::from_genes(genes).expect("a subtree replaced by a tree")
     }
 
+    /// The program with the subtree at `i` (ending before `end`) replaced by `with`; the caller
+    /// vouches that `end` is that subtree's end and `with` is one tree.
+    pub(crate) fn splice(&self, i: usize, end: usize, with: &[Gene]) -> Program {
+        let mut genes = Vec::with_capacity(self.len() - (end - i) + with.len());
+        genes.extend_from_slice(&self.genes[..i]);
+        genes.extend_from_slice(with);
+        genes.extend_from_slice(&self.genes[end..]);
+        debug_assert!(Program::from_genes(genes.clone()).is_ok());
+        let else_at = else_indices(&genes);
+        Program { genes, else_at }
+    }
+
     /// The genes of the subtree rooted at `i`.
     pub fn subtree(&self, i: usize) -> &[Gene] {
         &self.genes[i..self.subtree_end(i)]
@@ -234,9 +246,20 @@ impl Program {
     /// Runs the decision tree: `test` answers (and may act on) each conditional met on the way
     /// down; returns the action at the leaf reached.
     #[inline]
-    pub fn decide(&self, mut test: impl FnMut(Conditional) -> bool) -> Action {
+    pub fn decide(&self, test: impl FnMut(Conditional) -> bool) -> Action {
+        self.decide_visiting(test, |_| {})
+    }
+
+    /// [`Program::decide`], telling `visit` the index of every node met, the leaf included.
+    #[inline]
+    pub fn decide_visiting(
+        &self,
+        mut test: impl FnMut(Conditional) -> bool,
+        mut visit: impl FnMut(usize),
+    ) -> Action {
         let mut k = 0;
         loop {
+            visit(k);
             match self.genes[k] {
                 Gene::If(c) => {
                     k = if test(c) {
@@ -325,14 +348,91 @@ impl std::str::FromStr for Program {
     }
 }
 
+/// For each conditional, where its else-branch starts; linear: a backward pass knows the end of
+/// every later subtree (`genes` must be one tree).
 fn else_indices(genes: &[Gene]) -> Vec<u32> {
-    let mut else_at = vec![0u32; genes.len()];
-    for i in 0..genes.len() {
-        if let Gene::If(_) = genes[i] {
-            else_at[i] = subtree_end(genes, i + 1) as u32;
-        }
+    let n = genes.len();
+    let mut else_at = vec![0u32; n];
+    let mut end = vec![0u32; n];
+    for i in (0..n).rev() {
+        end[i] = match genes[i] {
+            Gene::Do(_) => i as u32 + 1,
+            Gene::If(_) => {
+                let e = end[i + 1];
+                else_at[i] = e;
+                end[e as usize]
+            }
+        };
     }
     else_at
+}
+
+/// The layout of a program's tree, for the depth of a child made by replacing one subtree
+/// without building it: per node its depth, the end and height of its subtree, and the deepest
+/// node before it and from it on. Depths count edges, as [`Program::depth`].
+#[derive(Debug, Clone)]
+pub(crate) struct Shape {
+    depth: Vec<u32>,
+    end: Vec<u32>,
+    height: Vec<u32>,
+    /// `before[i]`: the largest depth among nodes `0..i` (0 for none).
+    before: Vec<u32>,
+    /// `from[i]`: the largest depth among nodes `i..` (`len + 1` entries, 0 for none).
+    from: Vec<u32>,
+}
+
+impl Shape {
+    pub(crate) fn of(p: &Program) -> Shape {
+        let n = p.len();
+        let (mut end, mut height) = (vec![0u32; n], vec![0u32; n]);
+        for i in (0..n).rev() {
+            if let Gene::If(_) = p.genes[i] {
+                let e = p.else_at[i] as usize;
+                end[i] = end[e];
+                height[i] = 1 + height[i + 1].max(height[e]);
+            } else {
+                end[i] = i as u32 + 1;
+            }
+        }
+        let mut depth = vec![0u32; n];
+        for i in 0..n {
+            if let Gene::If(_) = p.genes[i] {
+                depth[i + 1] = depth[i] + 1;
+                depth[p.else_at[i] as usize] = depth[i] + 1;
+            }
+        }
+        let mut before = vec![0u32; n];
+        for i in 1..n {
+            before[i] = before[i - 1].max(depth[i - 1]);
+        }
+        let mut from = vec![0u32; n + 1];
+        for i in (0..n).rev() {
+            from[i] = from[i + 1].max(depth[i]);
+        }
+        Shape {
+            depth,
+            end,
+            height,
+            before,
+            from,
+        }
+    }
+
+    /// Where the subtree at `i` ends.
+    pub(crate) fn end(&self, i: usize) -> usize {
+        self.end[i] as usize
+    }
+
+    /// The depth of the subtree at `i`.
+    pub(crate) fn height(&self, i: usize) -> usize {
+        self.height[i] as usize
+    }
+
+    /// The depth of the program once the subtree at `i` is replaced by a tree of depth `h`.
+    pub(crate) fn depth_with(&self, i: usize, h: usize) -> usize {
+        let outside = self.before[i].max(self.from[self.end(i)]) as usize;
+        outside.max(self.depth[i] as usize + h)
+    }
 }
 
 fn subtree_end(genes: &[Gene], i: usize) -> usize {

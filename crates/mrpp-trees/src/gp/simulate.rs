@@ -330,9 +330,38 @@ pub fn run_program(
     record: bool,
     deadline: Deadline,
 ) -> Outcome {
+    run_marking(program, problem, opts, cap, record, deadline, &mut [])
+}
+
+/// [`run_program`] without recording, also setting in `reached` (a bitset over the program's
+/// node indices, at least `program.len().div_ceil(64)` words; bits already set stay set) every
+/// node that some decision of the run passes through. A program that differs from `program` only
+/// inside a subtree whose root is not in `reached` makes the same decisions, so its run (and
+/// fitness) is identical. Not meaningful for a run stopped by the deadline.
+pub fn run_program_marking(
+    program: &Program,
+    problem: &Problem,
+    opts: &SimOptions,
+    cap: u64,
+    deadline: Deadline,
+    reached: &mut [u64],
+) -> Outcome {
+    assert!(reached.len() >= program.len().div_ceil(64));
+    run_marking(program, problem, opts, cap, false, deadline, reached)
+}
+
+fn run_marking(
+    program: &Program,
+    problem: &Problem,
+    opts: &SimOptions,
+    cap: u64,
+    record: bool,
+    deadline: Deadline,
+    reached: &mut [u64],
+) -> Outcome {
     match &problem.hops {
-        Some(table) => Sim::new(problem, table, opts, record).run(program, cap, deadline),
-        None => Sim::new(problem, &problem.tree, opts, record).run(program, cap, deadline),
+        Some(table) => Sim::new(problem, table, opts, record).run(program, cap, deadline, reached),
+        None => Sim::new(problem, &problem.tree, opts, record).run(program, cap, deadline, reached),
     }
 }
 
@@ -480,7 +509,14 @@ impl<'a, T: TreePaths> Sim<'a, T> {
         }
     }
 
-    fn run(&mut self, program: &Program, cap: u64, deadline: Deadline) -> Outcome {
+    /// `reached`: empty, or the bitset of [`run_program_marking`].
+    fn run(
+        &mut self,
+        program: &Program,
+        cap: u64,
+        deadline: Deadline,
+        reached: &mut [u64],
+    ) -> Outcome {
         // Brent's cycle detection: compare with a snapshot taken at steps 1, 2, 4, 8, ...
         let mut saved = self.s.clone();
         let (mut power, mut lam) = (1u64, 0u64);
@@ -496,7 +532,7 @@ impl<'a, T: TreePaths> Sim<'a, T> {
                 let f = self.p.squared_distances(&self.s.pos);
                 return self.outcome(Stop::TimeLimit, self.step, f);
             }
-            self.time_step(program);
+            self.time_step(program, reached);
             if !self.o.detect_cycles || self.unsolved == 0 {
                 continue;
             }
@@ -509,7 +545,7 @@ impl<'a, T: TreePaths> Sim<'a, T> {
                     let ahead = (cap - at) % lam;
                     self.record = false;
                     for _ in 0..ahead {
-                        self.time_step(program);
+                        self.time_step(program, reached);
                     }
                 }
                 let f = self.p.squared_distances(&self.s.pos);
@@ -540,10 +576,18 @@ impl<'a, T: TreePaths> Sim<'a, T> {
     }
 
     /// One time step: every robot runs the program once, in id order.
-    fn time_step(&mut self, program: &Program) {
+    fn time_step(&mut self, program: &Program, reached: &mut [u64]) {
         self.stamp += 1;
+        let mark = !reached.is_empty();
         for i in 0..self.p.num_robots() {
-            let a = program.decide(|c| self.test(c, i));
+            let a = program.decide_visiting(
+                |c| self.test(c, i),
+                |k| {
+                    if mark {
+                        reached[k / 64] |= 1 << (k % 64);
+                    }
+                },
+            );
             self.act(a, i);
         }
         self.step += 1;
