@@ -32,12 +32,12 @@
 
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use std::sync::{Arc, OnceLock};
+use std::sync::Arc;
 
 use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
-use crate::gp::program::{Gene, Program, Shape};
+use crate::gp::program::{Action, Gene, Program};
 use crate::gp::simulate::{Problem, SimOptions, Stop, run_program, run_program_marking};
 use mrpp_core::contract::Deadline;
 use mrpp_core::error::{Error, Result};
@@ -319,7 +319,7 @@ pub fn evolve(
     'runs: for run in 0..params.runs {
         let mut pop = initial_population(params, seed, run);
         let mut origins = vec![Origin::New; pop.len()];
-        let mut parents: Option<Evaluated> = None;
+        let mut parents: Option<(Evaluated, Vec<Program>)> = None;
         for generation in 0..params.generations {
             if deadline.expired() {
                 stop = GpStop::TimeLimit;
@@ -328,7 +328,7 @@ pub fn evolve(
             let (gen_eval, fresh, heirs) = evaluate_population(
                 &pop,
                 &origins,
-                parents.as_ref(),
+                parents.as_ref().map(|(g, p)| (g, &p[..])),
                 problems,
                 params,
                 tau_b,
@@ -370,8 +370,9 @@ pub fn evolve(
                 break 'runs;
             }
             if generation + 1 < params.generations {
-                (pop, origins) = breed(&pop, evals, params, seed, run, generation);
-                parents = Some(gen_eval);
+                let (children, o) = breed(&pop, evals, params, seed, run, generation);
+                origins = o;
+                parents = Some((gen_eval, std::mem::replace(&mut pop, children)));
             }
         }
     }
@@ -454,7 +455,8 @@ struct Evaluated {
 }
 
 /// A parent's reached nodes carried over to a child made by `edit`, which lies in unreached
-/// code: nodes before the subtree keep their index, nodes after it move by the size change.
+/// code or swapped a subtree for an equal one: nodes before the subtree keep their index, nodes
+/// after it move by the size change.
 fn carry_reached(reached: &[u64], edit: Edit, child_len: usize) -> Arc<[u64]> {
     let mut out = vec![0u64; child_len.div_ceil(64)];
     for (w, &word) in reached.iter().enumerate() {
@@ -462,11 +464,14 @@ fn carry_reached(reached: &[u64], edit: Edit, child_len: usize) -> Arc<[u64]> {
         while bits != 0 {
             let k = w * 64 + bits.trailing_zeros() as usize;
             bits &= bits - 1;
-            debug_assert!(k < edit.at || k >= edit.at + edit.removed);
+            // Nodes inside the subtree are reached only when it was swapped for an equal one.
+            debug_assert!(
+                k < edit.at || k >= edit.at + edit.removed || edit.removed == edit.inserted
+            );
             let to = if k < edit.at {
                 k
             } else {
-                k - edit.removed + edit.inserted
+                k + edit.inserted - edit.removed
             };
             out[to / 64] |= 1 << (to % 64);
         }
@@ -475,14 +480,15 @@ fn carry_reached(reached: &[u64], edit: Edit, child_len: usize) -> Arc<[u64]> {
 }
 
 /// Line 7 for the whole population, in parallel. Each distinct program is simulated once per
-/// τ_B, and a child whose edit lies in code its parent never reached (under the same τ_B) takes
-/// the parent's evaluation: its runs are the parent's, decision for decision. Returns the
+/// τ_B, and a child whose edit lies in code its parent never reached (under the same τ_B), or
+/// swapped a subtree for an equal one, takes the parent's evaluation: its runs are the
+/// parent's, decision for decision. Returns the
 /// evaluations, the number of fresh simulations and the number of inherited evaluations.
 #[allow(clippy::too_many_arguments)]
 fn evaluate_population(
     pop: &[Program],
     origins: &[Origin],
-    parents: Option<&Evaluated>,
+    parents: Option<(&Evaluated, &[Program])>,
     problems: &[Problem],
     params: &GpParams,
     tau_b: Option<u64>,
@@ -493,19 +499,23 @@ fn evaluate_population(
     if cache.len() > 200_000 {
         cache.clear();
     }
-    let parents = parents.filter(|g| g.tau_b == tau_b);
+    let parents = parents.filter(|(g, _)| g.tau_b == tau_b);
     let mut inherited = 0u64;
     // Distinct programs neither in the cache nor heirs, in order of first appearance.
     let mut todo: Vec<usize> = Vec::new();
     let mut first: FxHashMap<&[Gene], usize> = FxHashMap::default();
     let mut slots: Vec<Option<(Evaluation, Arc<[u64]>)>> = vec![None; pop.len()];
     for (k, p) in pop.iter().enumerate() {
-        let heir = parents.and_then(|g| match origins[k] {
+        let heir = parents.and_then(|(g, old)| match origins[k] {
             Origin::Copy(parent) => Some((g.evals[parent], g.reached[parent].clone())),
             Origin::Edit { parent, edit } => {
                 let r = &g.reached[parent];
                 let hit = r[edit.at / 64] >> (edit.at % 64) & 1 == 1;
-                (!hit).then(|| (g.evals[parent], carry_reached(r, edit, p.len())))
+                // A subtree swapped for an equal one leaves the parent as it was.
+                let same = edit.removed == edit.inserted
+                    && p.genes()[edit.at..edit.at + edit.inserted]
+                        == old[parent].genes()[edit.at..edit.at + edit.removed];
+                (!hit || same).then(|| (g.evals[parent], carry_reached(r, edit, p.len())))
             }
             Origin::New => None,
         });
@@ -616,8 +626,6 @@ fn breed(
     }
     ops.extend(std::iter::repeat_n(Op::Mutate, n_m));
     let wheel = Roulette::new(evals);
-    let shapes: Vec<OnceLock<Shape>> = (0..n).map(|_| OnceLock::new()).collect();
-    let parent = |k: usize| (&pop[k], shapes[k].get_or_init(|| Shape::of(&pop[k])));
     let origin = |parent: usize, edit: Option<Edit>| match edit {
         Some(edit) => Origin::Edit { parent, edit },
         None => Origin::Copy(parent),
@@ -636,7 +644,7 @@ fn breed(
                     let a = wheel.pick(&mut rng);
                     let b = wheel.pick(&mut rng);
                     let ((c, ec), (d, ed)) =
-                        crossover_edits(parent(a), parent(b), params, &mut rng);
+                        crossover_edits(&pop[a], &pop[b], params, &mut rng, &mut Vec::new());
                     let mut kids = vec![(c, origin(a, ec))];
                     if k == 2 {
                         kids.push((d, origin(b, ed)));
@@ -645,7 +653,7 @@ fn breed(
                 }
                 Op::Mutate => {
                     let a = wheel.pick(&mut rng);
-                    let (c, e) = mutation_edit(parent(a), params, &mut rng);
+                    let (c, e) = mutation_edit(&pop[a], params, &mut rng);
                     vec![(c, origin(a, e))]
                 }
             }
@@ -657,9 +665,21 @@ fn breed(
 /// Redraws of crossover or mutation points before a parent is copied instead.
 const TRIES: usize = 8;
 
-/// A child's depth lies within the bounds.
-fn depth_ok(depth: usize, params: &GpParams) -> bool {
-    (params.min_depth..=params.max_depth).contains(&depth)
+/// Whether `a` with its subtree at `i` replaced by a tree of depth `h` lies within the depth
+/// bounds, for a parent `a` within them, without building it: the child's depth is
+/// max(deepest node outside the subtree, depth of `i` + `h`), and the first term is at most
+/// `a`'s depth, so only a child below the lower bound needs the outside depth (one walk).
+fn child_depth_ok(a: &Program, i: usize, h: usize, params: &GpParams) -> bool {
+    debug_assert!((params.min_depth..=params.max_depth).contains(&a.depth()));
+    let inside = a.node_depth(i) + h;
+    if inside > params.max_depth {
+        return false;
+    }
+    if inside >= params.min_depth {
+        return true;
+    }
+    let stub = a.replace_subtree(i, &[Gene::Do(Action::Stay)]);
+    stub.depth() >= params.min_depth
 }
 
 /// Subtree crossover (§4.4): a uniform node in each parent, the subtrees swapped; each child that
@@ -670,7 +690,7 @@ pub fn genetic_crossover(
     params: &GpParams,
     rng: &mut ChaCha8Rng,
 ) -> (Program, Program) {
-    let ((c, _), (d, _)) = crossover_edits((a, &Shape::of(a)), (b, &Shape::of(b)), params, rng);
+    let ((c, _), (d, _)) = crossover_edits(a, b, params, rng, &mut Vec::new());
     (c, d)
 }
 
@@ -678,35 +698,37 @@ pub fn genetic_crossover(
 type Child = (Program, Option<Edit>);
 
 /// [`genetic_crossover`] with each child's edit of its own parent.
-/// Each child is only built once its depth, known from the parents' [`Shape`]s, is within the
-/// bounds.
+/// Each child is only built once its depth is known to lie within the bounds
+/// ([`child_depth_ok`]); the parents must lie within them. `open` is scratch.
 fn crossover_edits(
-    (a, sa): (&Program, &Shape),
-    (b, sb): (&Program, &Shape),
+    a: &Program,
+    b: &Program,
     params: &GpParams,
     rng: &mut ChaCha8Rng,
+    open: &mut Vec<u8>,
 ) -> (Child, Child) {
     let mut c = None;
     let mut d = None;
     for _ in 0..TRIES {
         let i = rng.random_range(0..a.len());
         let j = rng.random_range(0..b.len());
-        let (ei, ej) = (sa.end(i), sb.end(j));
-        if c.is_none() && depth_ok(sa.depth_with(i, sb.height(j)), params) {
+        let (ei, hi) = a.subtree_extent(i, open);
+        let (ej, hj) = b.subtree_extent(j, open);
+        if c.is_none() && child_depth_ok(a, i, hj, params) {
             let edit = Edit {
                 at: i,
                 removed: ei - i,
                 inserted: ej - j,
             };
-            c = Some((a.splice(i, ei, &b.genes()[j..ej]), Some(edit)));
+            c = Some((a.splice((i, ei), b, (j, ej)), Some(edit)));
         }
-        if d.is_none() && depth_ok(sb.depth_with(j, sa.height(i)), params) {
+        if d.is_none() && child_depth_ok(b, j, hi, params) {
             let edit = Edit {
                 at: j,
                 removed: ej - j,
                 inserted: ei - i,
             };
-            d = Some((b.splice(j, ej, &a.genes()[i..ei]), Some(edit)));
+            d = Some((b.splice((j, ej), a, (i, ei)), Some(edit)));
         }
         if c.is_some() && d.is_some() {
             break;
@@ -720,22 +742,22 @@ fn crossover_edits(
 
 /// Subtree mutation (§4.4): a uniform node and its subtree replaced by a grown random subtree.
 pub fn mutation(a: &Program, params: &GpParams, rng: &mut ChaCha8Rng) -> Program {
-    mutation_edit((a, &Shape::of(a)), params, rng).0
+    mutation_edit(a, params, rng).0
 }
 
-/// [`mutation`] with the child's edit of its parent.
-fn mutation_edit((a, sa): (&Program, &Shape), params: &GpParams, rng: &mut ChaCha8Rng) -> Child {
+/// [`mutation`] with the child's edit of its parent (which must lie within the depth bounds).
+fn mutation_edit(a: &Program, params: &GpParams, rng: &mut ChaCha8Rng) -> Child {
     for _ in 0..TRIES {
         let i = rng.random_range(0..a.len());
         let fresh = Program::grow_subtree(rng, params.mutation_depth);
-        if depth_ok(sa.depth_with(i, fresh.depth()), params) {
-            let end = sa.end(i);
+        if child_depth_ok(a, i, fresh.depth(), params) {
+            let end = a.subtree_end(i);
             let edit = Edit {
                 at: i,
                 removed: end - i,
                 inserted: fresh.len(),
             };
-            return (a.splice(i, end, fresh.genes()), Some(edit));
+            return (a.splice((i, end), &fresh, (0, fresh.len())), Some(edit));
         }
     }
     (a.clone(), None)
@@ -745,7 +767,6 @@ fn mutation_edit((a, sa): (&Program, &Shape), params: &GpParams, rng: &mut ChaCh
 mod tests {
     use super::*;
     use crate::generator::{ProblemSpec, RobotCount, generate_problem};
-    use crate::gp::program::Action;
     use mrpp_core::mapf::graph::Graph;
     use mrpp_core::mapf::instance::Instance;
 
@@ -891,18 +912,32 @@ mod tests {
     }
 
     #[test]
-    fn shapes_predict_the_children_of_subtree_swaps() {
+    fn child_depths_are_judged_without_building_the_child() {
         let mut rng = ChaCha8Rng::seed_from_u64(5);
-        for _ in 0..40 {
-            let a = Program::grow(&mut rng, 5);
-            let b = Program::grow(&mut rng, 4);
-            let (sa, sb) = (Shape::of(&a), Shape::of(&b));
-            for i in 0..a.len() {
-                assert_eq!(sa.end(i), a.subtree_end(i));
-                for j in 0..b.len() {
-                    let child = a.replace_subtree(i, b.subtree(j));
-                    assert_eq!(sa.depth_with(i, sb.height(j)), child.depth());
-                    assert_eq!(a.splice(i, sa.end(i), b.subtree(j)), child);
+        let mut open = Vec::new();
+        for (min_depth, max_depth) in [(1, 50), (1, 5), (3, 6), (4, 4)] {
+            let params = GpParams {
+                min_depth,
+                max_depth,
+                init_depth: min_depth,
+                ..GpParams::default()
+            };
+            let mut tried = 0;
+            while tried < 15 {
+                let (a, b) = (Program::grow(&mut rng, 5), Program::grow(&mut rng, 4));
+                if !(min_depth..=max_depth).contains(&a.depth()) {
+                    continue;
+                }
+                tried += 1;
+                for i in 0..a.len() {
+                    assert_eq!(a.subtree_extent(i, &mut open).0, a.subtree_end(i));
+                    for j in 0..b.len() {
+                        let (ej, hj) = b.subtree_extent(j, &mut open);
+                        let child = a.replace_subtree(i, b.subtree(j));
+                        let ok = (min_depth..=max_depth).contains(&child.depth());
+                        assert_eq!(child_depth_ok(&a, i, hj, &params), ok);
+                        assert_eq!(a.splice((i, a.subtree_end(i)), &b, (j, ej)), child);
+                    }
                 }
             }
         }

@@ -226,16 +226,53 @@ impl Program {
         Program::from_genes(genes).expect("a subtree replaced by a tree")
     }
 
-    /// The program with the subtree at `i` (ending before `end`) replaced by `with`; the caller
-    /// vouches that `end` is that subtree's end and `with` is one tree.
-    pub(crate) fn splice(&self, i: usize, end: usize, with: &[Gene]) -> Program {
-        let mut genes = Vec::with_capacity(self.len() - (end - i) + with.len());
+    /// The program with its subtree `i..end` replaced by `donor`'s subtree `j..donor_end`; the
+    /// caller vouches that both ranges are whole subtrees. The else-branch indices are the
+    /// parents', moved: an else-branch starting after the replaced subtree moves by the size
+    /// change (subtrees nest, so none starts inside it), the donor's by the new position.
+    pub(crate) fn splice(
+        &self,
+        (i, end): (usize, usize),
+        donor: &Program,
+        (j, donor_end): (usize, usize),
+    ) -> Program {
+        let inserted = donor_end - j;
+        let len = self.len() - (end - i) + inserted;
+        let mut genes = Vec::with_capacity(len);
         genes.extend_from_slice(&self.genes[..i]);
-        genes.extend_from_slice(with);
+        genes.extend_from_slice(&donor.genes[j..donor_end]);
         genes.extend_from_slice(&self.genes[end..]);
-        debug_assert!(Program::from_genes(genes.clone()).is_ok());
-        let else_at = else_indices(&genes);
-        Program { genes, else_at }
+        // Actions keep 0; a conditional's else-branch is never at 0.
+        let shift = |e: u32, from: u32, by: i64| {
+            if e >= from && e != 0 {
+                (i64::from(e) + by) as u32
+            } else {
+                e
+            }
+        };
+        let delta = inserted as i64 - (end - i) as i64;
+        let mut else_at = Vec::with_capacity(len);
+        else_at.extend(
+            self.else_at[..i]
+                .iter()
+                .map(|&e| shift(e, end as u32, delta)),
+        );
+        let moved = i as i64 - j as i64;
+        else_at.extend(
+            donor.else_at[j..donor_end]
+                .iter()
+                .map(|&e| shift(e, 1, moved)),
+        );
+        else_at.extend(self.else_at[end..].iter().map(|&e| shift(e, 1, delta)));
+        let p = Program { genes, else_at };
+        debug_assert_eq!(p.else_at, else_indices(&p.genes));
+        p
+    }
+
+    /// The end and the depth of the subtree at `i` (one walk over it); `open` is scratch.
+    pub(crate) fn subtree_extent(&self, i: usize, open: &mut Vec<u8>) -> (usize, usize) {
+        let (depth, end) = subtree_depth_with(&self.genes, i, open);
+        (end, depth)
     }
 
     /// The genes of the subtree rooted at `i`.
@@ -367,74 +404,6 @@ fn else_indices(genes: &[Gene]) -> Vec<u32> {
     else_at
 }
 
-/// The layout of a program's tree, for the depth of a child made by replacing one subtree
-/// without building it: per node its depth, the end and height of its subtree, and the deepest
-/// node before it and from it on. Depths count edges, as [`Program::depth`].
-#[derive(Debug, Clone)]
-pub(crate) struct Shape {
-    depth: Vec<u32>,
-    end: Vec<u32>,
-    height: Vec<u32>,
-    /// `before[i]`: the largest depth among nodes `0..i` (0 for none).
-    before: Vec<u32>,
-    /// `from[i]`: the largest depth among nodes `i..` (`len + 1` entries, 0 for none).
-    from: Vec<u32>,
-}
-
-impl Shape {
-    pub(crate) fn of(p: &Program) -> Shape {
-        let n = p.len();
-        let (mut end, mut height) = (vec![0u32; n], vec![0u32; n]);
-        for i in (0..n).rev() {
-            if let Gene::If(_) = p.genes[i] {
-                let e = p.else_at[i] as usize;
-                end[i] = end[e];
-                height[i] = 1 + height[i + 1].max(height[e]);
-            } else {
-                end[i] = i as u32 + 1;
-            }
-        }
-        let mut depth = vec![0u32; n];
-        for i in 0..n {
-            if let Gene::If(_) = p.genes[i] {
-                depth[i + 1] = depth[i] + 1;
-                depth[p.else_at[i] as usize] = depth[i] + 1;
-            }
-        }
-        let mut before = vec![0u32; n];
-        for i in 1..n {
-            before[i] = before[i - 1].max(depth[i - 1]);
-        }
-        let mut from = vec![0u32; n + 1];
-        for i in (0..n).rev() {
-            from[i] = from[i + 1].max(depth[i]);
-        }
-        Shape {
-            depth,
-            end,
-            height,
-            before,
-            from,
-        }
-    }
-
-    /// Where the subtree at `i` ends.
-    pub(crate) fn end(&self, i: usize) -> usize {
-        self.end[i] as usize
-    }
-
-    /// The depth of the subtree at `i`.
-    pub(crate) fn height(&self, i: usize) -> usize {
-        self.height[i] as usize
-    }
-
-    /// The depth of the program once the subtree at `i` is replaced by a tree of depth `h`.
-    pub(crate) fn depth_with(&self, i: usize, h: usize) -> usize {
-        let outside = self.before[i].max(self.from[self.end(i)]) as usize;
-        outside.max(self.depth[i] as usize + h)
-    }
-}
-
 fn subtree_end(genes: &[Gene], i: usize) -> usize {
     let mut need = 1usize;
     let mut k = i;
@@ -450,8 +419,13 @@ fn subtree_end(genes: &[Gene], i: usize) -> usize {
 
 /// (depth, end) of the subtree at `i`, without recursion.
 fn subtree_depth(genes: &[Gene], i: usize) -> (usize, usize) {
+    subtree_depth_with(genes, i, &mut Vec::new())
+}
+
+/// [`subtree_depth`] with its stack (`open`, cleared first) supplied.
+fn subtree_depth_with(genes: &[Gene], i: usize, open: &mut Vec<u8>) -> (usize, usize) {
     // Stack of remaining children per open conditional; its length is the current depth.
-    let mut open: Vec<u8> = Vec::new();
+    open.clear();
     let mut depth = 0;
     let mut k = i;
     loop {
