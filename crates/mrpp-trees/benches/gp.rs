@@ -7,7 +7,7 @@
 //!   generation of the default settings without the cache, in parallel;
 //! - `gp/evolve/default`: a whole default evolution (|P| = 200, 2 × 25 generations).
 //!
-//! The paper-settings run (|P| = 2000, 5 × 400 generations) takes minutes and is measured with
+//! The paper-settings run (|P| = 2000, 5 × 400 generations) takes about 15 s and is measured with
 //! `mrpp trees solve --paper-settings` instead (see docs/performance.md).
 //!
 //! Run with `cargo bench -p mrpp-trees --bench gp`.
