@@ -697,9 +697,9 @@ pub fn genetic_crossover(
 /// A child and the edit that made it from its parent (`None`: a copy of the parent).
 type Child = (Program, Option<Edit>);
 
-/// [`genetic_crossover`] with each child's edit of its own parent.
-/// Each child is only built once its depth is known to lie within the bounds
-/// ([`child_depth_ok`]); the parents must lie within them. `open` is scratch.
+/// [`genetic_crossover`] with each child's edit of its own parent. Each child is only built once
+/// its depth is known to lie within the bounds ([`child_depth_ok`]); the parents must lie within
+/// them. `open` is scratch.
 fn crossover_edits(
     a: &Program,
     b: &Program,
@@ -715,20 +715,10 @@ fn crossover_edits(
         let (ei, hi) = a.subtree_extent(i, open);
         let (ej, hj) = b.subtree_extent(j, open);
         if c.is_none() && child_depth_ok(a, i, hj, params) {
-            let edit = Edit {
-                at: i,
-                removed: ei - i,
-                inserted: ej - j,
-            };
-            c = Some((a.splice((i, ei), b, (j, ej)), Some(edit)));
+            c = Some(swap_in(a, (i, ei), b, (j, ej)));
         }
         if d.is_none() && child_depth_ok(b, j, hi, params) {
-            let edit = Edit {
-                at: j,
-                removed: ej - j,
-                inserted: ei - i,
-            };
-            d = Some((b.splice((j, ej), a, (i, ei)), Some(edit)));
+            d = Some(swap_in(b, (j, ej), a, (i, ei)));
         }
         if c.is_some() && d.is_some() {
             break;
@@ -738,6 +728,16 @@ fn crossover_edits(
         c.unwrap_or_else(|| (a.clone(), None)),
         d.unwrap_or_else(|| (b.clone(), None)),
     )
+}
+
+/// `a` with its subtree `i..ei` replaced by `b`'s subtree `j..ej`, and that edit.
+fn swap_in(a: &Program, (i, ei): (usize, usize), b: &Program, (j, ej): (usize, usize)) -> Child {
+    let edit = Edit {
+        at: i,
+        removed: ei - i,
+        inserted: ej - j,
+    };
+    (a.splice((i, ei), b, (j, ej)), Some(edit))
 }
 
 /// Subtree mutation (§4.4): a uniform node and its subtree replaced by a grown random subtree.
@@ -751,13 +751,7 @@ fn mutation_edit(a: &Program, params: &GpParams, rng: &mut ChaCha8Rng) -> Child 
         let i = rng.random_range(0..a.len());
         let fresh = Program::grow_subtree(rng, params.mutation_depth);
         if child_depth_ok(a, i, fresh.depth(), params) {
-            let end = a.subtree_end(i);
-            let edit = Edit {
-                at: i,
-                removed: end - i,
-                inserted: fresh.len(),
-            };
-            return (a.splice((i, end), &fresh, (0, fresh.len())), Some(edit));
+            return swap_in(a, (i, a.subtree_end(i)), &fresh, (0, fresh.len()));
         }
     }
     (a.clone(), None)
