@@ -78,6 +78,7 @@ use std::cell::RefCell;
 
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
+use rustc_hash::FxHashMap;
 
 use crate::hstar::loop_elimination;
 use mrpp_core::contract::{Ctx, Deadline, Planner, Unsolved};
@@ -418,7 +419,13 @@ pub struct RouteSelection<'a> {
     pub crossover_probability: f64,
     pub mutation_rate: f64,
     scratch: RefCell<Occupancy>,
+    /// Objectives of genomes evaluated before: offspring often repeat a genome once the
+    /// population has converged, and an evaluation is a pure function of the genome.
+    memo: RefCell<FxHashMap<Vec<Choice>, Vec<f64>>>,
 }
+
+/// Genomes remembered by [`RouteSelection`] before the memo is emptied (about 10 MB at 24 robots).
+const MEMO_LIMIT: usize = 100_000;
 
 /// Time-stamped occupancy of the current and previous step (reused across evaluations).
 #[derive(Default)]
@@ -454,6 +461,7 @@ impl<'a> RouteSelection<'a> {
             crossover_probability: planner.crossover_probability,
             mutation_rate: planner.mutation_rate.unwrap_or(1.0 / n as f64),
             scratch: RefCell::new(Occupancy::default()),
+            memo: RefCell::new(FxHashMap::default()),
         }
     }
 
@@ -579,12 +587,21 @@ impl Problem for RouteSelection<'_> {
     }
 
     fn evaluate(&self, genome: &Vec<Choice>) -> Vec<f64> {
+        if let Some(f) = self.memo.borrow().get(genome) {
+            return f.clone();
+        }
         let conflicts = count_conflicts(self, genome) as f64;
         let (sum, makespan) = self.sum_and_makespan(genome);
-        match self.objectives {
+        let f = match self.objectives {
             Objectives::ConflictsAndSum => vec![conflicts, sum as f64],
             Objectives::ConflictsSumAndMakespan => vec![conflicts, sum as f64, makespan as f64],
+        };
+        let mut memo = self.memo.borrow_mut();
+        if memo.len() >= MEMO_LIMIT {
+            memo.clear();
         }
+        memo.insert(genome.clone(), f.clone());
+        f
     }
 
     fn random_genome(&self, rng: &mut ChaCha8Rng) -> Vec<Choice> {
