@@ -38,7 +38,7 @@ use rayon::prelude::*;
 use rustc_hash::FxHashMap;
 
 use crate::gp::program::{Action, Gene, Program};
-use crate::gp::simulate::{Problem, SimOptions, Stop, run_program, run_program_marking};
+use crate::gp::simulate::{Problem, SimOptions, Stop, run_program_marking};
 use mrpp_core::contract::Deadline;
 use mrpp_core::error::{Error, Result};
 use mrpp_core::seeds::derive_seed;
@@ -206,12 +206,12 @@ pub fn calculate_fitness(
     tau_b: Option<u64>,
     deadline: Deadline,
 ) -> Evaluation {
-    calculate_fitness_marking(program, problems, params, tau_b, deadline, &mut []).0
+    calculate_fitness_marking(program, problems, params, tau_b, deadline, &mut [])
 }
 
-/// [`calculate_fitness`], also returning the program's nodes that some decision passed through
-/// on some example (a bitset over node indices; see [`run_program_marking`]) unless `reached`
-/// is given empty.
+/// [`calculate_fitness`], also setting in `reached` the program's nodes that some decision passed
+/// through on some example (a bitset over node indices; see [`run_program_marking`]; empty: no
+/// marking).
 fn calculate_fitness_marking(
     program: &Program,
     problems: &[Problem],
@@ -219,31 +219,25 @@ fn calculate_fitness_marking(
     tau_b: Option<u64>,
     deadline: Deadline,
     reached: &mut [u64],
-) -> (Evaluation, bool) {
+) -> Evaluation {
     let mut e = Evaluation {
         fitness: 0,
         steps: 0,
     };
-    let mut complete = true;
     for p in problems {
         let own = params.example_cap(p);
         let cap = match tau_b {
             Some(b) => own.min(b.saturating_sub(e.steps)),
             None => own,
         };
-        let out = if reached.is_empty() {
-            run_program(program, p, &params.sim, cap, false, deadline)
-        } else {
-            run_program_marking(program, p, &params.sim, cap, deadline, reached)
-        };
+        let out = run_program_marking(program, p, &params.sim, cap, deadline, reached);
         e.fitness = e.fitness.saturating_add(out.fitness);
         e.steps = e.steps.saturating_add(out.steps);
         if out.stop == Stop::TimeLimit {
             e.fitness = e.fitness.max(1);
-            complete = false;
         }
     }
-    (e, complete)
+    e
 }
 
 /// Reported after each evaluated generation.
@@ -510,12 +504,13 @@ fn evaluate_population(
             Origin::Copy(parent) => Some((g.evals[parent], g.reached[parent].clone())),
             Origin::Edit { parent, edit } => {
                 let r = &g.reached[parent];
-                let hit = r[edit.at / 64] >> (edit.at % 64) & 1 == 1;
+                let unreached = r[edit.at / 64] >> (edit.at % 64) & 1 == 0;
                 // A subtree swapped for an equal one leaves the parent as it was.
-                let same = edit.removed == edit.inserted
-                    && p.genes()[edit.at..edit.at + edit.inserted]
-                        == old[parent].genes()[edit.at..edit.at + edit.removed];
-                (!hit || same).then(|| (g.evals[parent], carry_reached(r, edit, p.len())))
+                let inherits = unreached
+                    || (edit.removed == edit.inserted
+                        && p.genes()[edit.at..edit.at + edit.inserted]
+                            == old[parent].genes()[edit.at..edit.at + edit.removed]);
+                inherits.then(|| (g.evals[parent], carry_reached(r, edit, p.len())))
             }
             Origin::New => None,
         });
@@ -533,7 +528,7 @@ fn evaluate_population(
         .par_iter()
         .map(|&k| {
             let mut reached = vec![0u64; pop[k].len().div_ceil(64)];
-            let (e, _) =
+            let e =
                 calculate_fitness_marking(&pop[k], problems, params, tau_b, deadline, &mut reached);
             (e, reached.into())
         })
@@ -948,7 +943,7 @@ mod tests {
         let params = GpParams::default();
         let run = |p: &Program, tau| {
             let mut reached = vec![0u64; p.len().div_ceil(64)];
-            let (e, complete) = calculate_fitness_marking(
+            let e = calculate_fitness_marking(
                 p,
                 &problems,
                 &params,
@@ -956,7 +951,6 @@ mod tests {
                 Deadline::none(),
                 &mut reached,
             );
-            assert!(complete);
             (e, reached)
         };
         let mut rng = ChaCha8Rng::seed_from_u64(9);

@@ -334,8 +334,8 @@ pub fn run_program(
 }
 
 /// [`run_program`] without recording, also setting in `reached` (a bitset over the program's
-/// node indices, at least `program.len().div_ceil(64)` words; bits already set stay set) every
-/// node that some decision of the run passes through. A program that differs from `program` only
+/// node indices, at least `program.len().div_ceil(64)` words, or empty for no marking; bits
+/// already set stay set) every node that some decision of the run passes through. A program that differs from `program` only
 /// inside a subtree whose root is not in `reached` makes the same decisions, so its run (and
 /// fitness) is identical. Not meaningful for a run stopped by the deadline.
 pub fn run_program_marking(
@@ -346,7 +346,7 @@ pub fn run_program_marking(
     deadline: Deadline,
     reached: &mut [u64],
 ) -> Outcome {
-    assert!(reached.len() >= program.len().div_ceil(64));
+    assert!(reached.is_empty() || reached.len() >= program.len().div_ceil(64));
     run_marking(program, problem, opts, cap, false, deadline, reached)
 }
 
@@ -668,7 +668,7 @@ impl<'a, T: TreePaths> Sim<'a, T> {
     /// Robot `j`, standing on `w`, has node `x` (not `w`) on its current path.
     #[inline]
     fn on_path_at(&self, j: usize, w: VertexId, x: VertexId) -> bool {
-        let t = self.tgt[j];
+        let t = self.target(j);
         t != w && self.paths_of.on_path(x, w, t)
     }
 
