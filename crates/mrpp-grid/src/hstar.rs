@@ -444,23 +444,60 @@ fn plan_robot(
     max_time: u32,
     deadline: Deadline,
 ) -> Search {
-    let h = |v: VertexId| dist.get(i, v);
-    let mut q = Query {
+    match earliest_arrival(g, inst, dist, i, res, max_time, deadline) {
+        Ok(arrival) => {
+            let h = |v: VertexId| dist.get(i, v);
+            let q = robot_query(g, inst, i, &h, arrival, deadline);
+            space_time_astar(&q, res)
+        }
+        Err(other) => other,
+    }
+}
+
+/// The space-time query of robot `i` from its start at time 0, arriving by `max_time`.
+fn robot_query<'a>(
+    g: &'a Graph,
+    inst: &Instance,
+    i: usize,
+    h: &'a dyn Fn(VertexId) -> u32,
+    max_time: u32,
+    deadline: Deadline,
+) -> Query<'a> {
+    Query {
         graph: g,
         start: inst.starts[i],
         goal: inst.goals[i],
         start_time: 0,
-        h: &h,
+        h,
         max_time,
         window: None,
         deadline,
+    }
+}
+
+/// The earliest time robot `i` can arrive for good against `res`, if it is at most `max_time`
+/// (SIPP's answer; [`plan_robot`]'s path arrives then too). `Err` holds SIPP's failure.
+fn earliest_arrival(
+    g: &Graph,
+    inst: &Instance,
+    dist: &GoalDistances,
+    i: usize,
+    res: &Reservations,
+    max_time: u32,
+    deadline: Deadline,
+) -> Result<u32, Search> {
+    // No arrival before the distance to go or while the goal is still reserved: a query whose
+    // bound is below that needs no search.
+    let Some(goal_free) = res.free_for_good_from(inst.goals[i]) else {
+        return Err(Search::NotFound);
     };
-    match sipp(&q, res) {
-        Search::Found(p) => {
-            q.max_time = p.len() as u32 - 1;
-            space_time_astar(&q, res)
-        }
-        other => other,
+    if dist.get(i, inst.starts[i]).max(goal_free) > max_time {
+        return Err(Search::NotFound);
+    }
+    let h = |v: VertexId| dist.get(i, v);
+    match sipp(&robot_query(g, inst, i, &h, max_time, deadline), res) {
+        Search::Found(p) => Ok(p.len() as u32 - 1),
+        other => Err(other),
     }
 }
 
@@ -809,6 +846,41 @@ pub fn local_replanning(
         }
         outcome
     };
+    // Whether no order of the pair `[a, b]` can be re-planned within `budget`: planned alone
+    // against every other path, each with the bound it gets when planned first, they fail or
+    // their earliest arrivals sum past the budget. Planning one first only adds reservations
+    // for the other and lowers its bound to the budget minus the first's arrival, so both
+    // orders would fail: the two SIPP searches answer for the four searches of the two orders.
+    let hopeless = |res: &mut Reservations,
+                    paths: &[Vec<VertexId>],
+                    [a, b]: [usize; 2],
+                    budget: usize|
+     -> Result<bool, Unsolved> {
+        res.release_path(&paths[a], 0, true);
+        res.release_path(&paths[b], 0, true);
+        let mut sum = 0usize;
+        let mut outcome = Ok(false);
+        for (k, other) in [(a, b), (b, a)] {
+            let Some(bound) = budget.checked_sub(ideal(other)) else {
+                outcome = Ok(true);
+                break;
+            };
+            match earliest_arrival(g, inst, dist, k, res, bound as u32, deadline) {
+                Ok(arrival) => sum += arrival as usize,
+                Err(Search::TimedOut) => {
+                    outcome = Err(Unsolved::TimeLimit);
+                    break;
+                }
+                Err(_) => {
+                    outcome = Ok(true);
+                    break;
+                }
+            }
+        }
+        res.reserve_path(&paths[a], 0, true);
+        res.reserve_path(&paths[b], 0, true);
+        outcome.map(|h| h || sum > budget)
+    };
     // Replaces robot i's path, in the paths and in the table.
     let replace = |res: &mut Reservations, paths: &mut [Vec<VertexId>], i: usize, p| {
         res.release_path(&paths[i], 0, true);
@@ -849,6 +921,15 @@ pub fn local_replanning(
             partners.sort_by_key(|&j| (std::cmp::Reverse(cost(&paths[j], j) - ideal(j)), j));
             for &j in partners.iter().take(PAIR_CANDIDATES) {
                 let before = cost(&paths[i], i) + cost(&paths[j], j);
+                let untried = [[i, j], [j, i]]
+                    .iter()
+                    .any(|pair| fruitless.get(&pair[..]) != Some(&version));
+                if untried && hopeless(&mut res, paths, [i, j], before - 1)? {
+                    for pair in [[i, j], [j, i]] {
+                        fruitless.insert(pair.to_vec(), version);
+                    }
+                    continue;
+                }
                 let mut best: Option<(usize, Vec<Vec<VertexId>>)> = None;
                 for pair in [[i, j], [j, i]] {
                     if fruitless.get(&pair[..]) == Some(&version) {
