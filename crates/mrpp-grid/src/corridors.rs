@@ -30,6 +30,10 @@ pub struct RouteScratch {
     /// `buckets[f - f0]`: the `(g, cell)` entries of that `f`; `used` buckets are in use.
     buckets: Vec<Vec<(u32, VertexId)>>,
     used: usize,
+    /// The blocked nodes the searches met (entered from a free neighbour, or the goal's node),
+    /// appended by every call and cleared only by the caller: with the robot's own cell, they
+    /// are the walls that kept a failed search from the goal.
+    pub walls: Vec<NodeId>,
 }
 
 impl RouteScratch {
@@ -67,6 +71,19 @@ impl RouteScratch {
             *cursor += 1;
         }
         None
+    }
+
+    /// The id of the latest call (each call of [`Corridors::route_length`] that searches takes a
+    /// new one).
+    pub fn last_call(&self) -> u32 {
+        self.call
+    }
+
+    /// Whether call `call` reached cell `v` at the end of a move (as long as no later call
+    /// reached it too). A call that found no route without a limit reached every cell of the
+    /// free region around its start that does not lie inside a corridor.
+    pub fn reached_in(&self, v: VertexId, call: u32) -> bool {
+        self.stamp.get(v as usize) == Some(&call)
     }
 
     #[inline]
@@ -190,7 +207,11 @@ impl Corridors {
         if from == goal {
             return Some(0);
         }
-        if from == avoid || blocked(self.node_of(from)) || blocked(self.node_of(goal)) {
+        if from == avoid || blocked(self.node_of(from)) {
+            return None;
+        }
+        if blocked(self.node_of(goal)) {
+            scratch.walls.push(self.node_of(goal));
             return None;
         }
         let h0 = h(from);
@@ -216,6 +237,7 @@ impl Corridors {
                 let nw = self.node_of(w);
                 // Along our own corridor (only when starting inside it), or into an open node.
                 if nw != nu && blocked(nw) {
+                    scratch.walls.push(nw);
                     continue;
                 }
                 let Some((x, steps)) = self.walk(u, w, goal, avoid) else {

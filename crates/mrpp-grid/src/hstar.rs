@@ -227,6 +227,10 @@ pub fn greedy_path_search(
     let mut candidates: Vec<(u32, usize, VertexId)> = Vec::with_capacity(4);
     let mut ties: Vec<(usize, VertexId)> = Vec::with_capacity(4);
     let mut scratch = RouteScratch::default();
+    // Per robot, the proof that it had no route at its last decision (see `Sealed`).
+    let mut sealed: Vec<Option<Sealed>> = vec![None; n];
+    // Calls of `route_length` in this decision that found no route without a limit.
+    let mut failed_calls: Vec<u32> = Vec::with_capacity(4);
     for _step in 0..cap {
         if pos.iter().zip(&inst.goals).all(|(p, g)| p == g) {
             return Ok((paths, GreedyEnd::AllOnGoal));
@@ -263,25 +267,45 @@ pub fn greedy_path_search(
             // first (the goal distance of `n_k`), so that once a route of the least possible
             // length is found the others cost no search; ties are then put back in neighbour
             // order, which leaves the choice (and the random stream) as in neighbour order.
+            if sealed[r]
+                .as_ref()
+                .is_some_and(|s| s.holds(cur, &blocked, &occupied))
+            {
+                continue; // no route from any neighbour, as at the last decision: r waits
+            }
             let h = |v: VertexId| dist.get(r, v);
             candidates.clear();
+            let mut taken: Vec<NodeId> = Vec::new();
             for (k, &nk) in g.neighbors(cur).iter().enumerate() {
                 let lower = h(nk);
-                if !occupied(corridors.node_of(nk)) && lower != u32::MAX {
+                if occupied(corridors.node_of(nk)) {
+                    taken.push(corridors.node_of(nk));
+                } else if lower != u32::MAX {
                     candidates.push((lower, k, nk));
                 }
             }
             candidates.sort_unstable();
             let mut best = u32::MAX;
             ties.clear();
+            scratch.walls.clear();
+            failed_calls.clear();
             for &(lower, k, nk) in &candidates {
                 if best != u32::MAX && 1 + lower > best {
                     break; // sorted by lower bound: no later neighbour can tie either
                 }
+                // A neighbour inside the region a search without a limit exhausted in vain
+                // has no route either (it would give that search one through it).
+                if failed_calls.iter().any(|&c| scratch.reached_in(nk, c)) {
+                    continue;
+                }
                 let limit = best.saturating_sub(1);
+                let call = scratch.last_call();
                 let Some(rest) =
                     corridors.route_length(g, nk, goal, cur, &blocked, &h, limit, &mut scratch)
                 else {
+                    if best == u32::MAX && scratch.last_call() != call {
+                        failed_calls.push(scratch.last_call());
+                    }
                     continue;
                 };
                 let len = 1 + rest;
@@ -293,6 +317,16 @@ pub fn greedy_path_search(
                     ties.push((k, nk));
                 }
             }
+            sealed[r] = (best == u32::MAX).then(|| {
+                let mut walls = std::mem::take(&mut scratch.walls);
+                walls.sort_unstable();
+                walls.dedup();
+                Sealed {
+                    at: cur,
+                    walls,
+                    taken,
+                }
+            });
             ties.sort_unstable();
             choices.clear();
             match cfg.tie_break {
@@ -337,6 +371,32 @@ pub fn greedy_path_search(
         GreedyEnd::StepCap
     };
     Ok((paths, end))
+}
+
+/// Why a robot of the greedy stage had no route at its last decision: every search from its free
+/// neighbours (avoiding its own cell `at`) ran out of cells, walled in by the blocked nodes
+/// `walls` (or found the goal's node among them), and the neighbours in the `taken` nodes were
+/// occupied. While the robot stays on `at` and all of these stay blocked and occupied, the
+/// region its searches could enter can only shrink, so it still has no route: its searches are
+/// skipped and it waits, as they would have made it do.
+#[derive(Debug, Clone)]
+struct Sealed {
+    at: VertexId,
+    walls: Vec<NodeId>,
+    taken: Vec<NodeId>,
+}
+
+impl Sealed {
+    fn holds(
+        &self,
+        at: VertexId,
+        blocked: &dyn Fn(NodeId) -> bool,
+        occupied: &dyn Fn(NodeId) -> bool,
+    ) -> bool {
+        self.at == at
+            && self.walls.iter().all(|&n| blocked(n))
+            && self.taken.iter().all(|&n| occupied(n))
+    }
 }
 
 /// Step 2, Algorithm 2: from the end of the path backwards, whenever a cell appeared earlier, the
@@ -1009,6 +1069,155 @@ mod tests {
             &Ctx::default(),
         );
         (m, inst, r)
+    }
+
+    /// Algorithm 1 as plainly as it reads (sequential update, first shortest, a robot on its
+    /// target node blocks only once parked): each free neighbour's route is a breadth-first
+    /// search over the cells, avoiding the robot's own cell and every cell of a node another
+    /// robot blocks. No corridor search, bounds, limits or skipped searches.
+    fn reference_greedy(
+        g: &Graph,
+        c: &Corridors,
+        inst: &Instance,
+        cap: usize,
+    ) -> (Vec<Vec<VertexId>>, GreedyEnd) {
+        let n = inst.num_agents();
+        let mut pos = inst.starts.clone();
+        let mut paths: Vec<Vec<VertexId>> = pos.iter().map(|&s| vec![s]).collect();
+        let mut parked_ever = vec![false; n];
+        let mut seen = std::collections::HashSet::new();
+        seen.insert(pos.clone());
+        for _ in 0..cap {
+            if pos == inst.goals {
+                return (paths, GreedyEnd::AllOnGoal);
+            }
+            for r in 0..n {
+                let (cur, goal) = (pos[r], inst.goals[r]);
+                if cur == goal {
+                    continue;
+                }
+                let node = |v: VertexId| c.node_of(v);
+                let occupied = |x: NodeId| (0..n).any(|j| j != r && node(pos[j]) == x);
+                let blocked = |x: NodeId| {
+                    if x == node(goal) {
+                        (0..n).any(|j| j != r && parked_ever[j] && node(pos[j]) == x)
+                    } else {
+                        occupied(x)
+                    }
+                };
+                let route = |from: VertexId| -> Option<usize> {
+                    if blocked(node(from)) || blocked(node(goal)) {
+                        return None;
+                    }
+                    let mut d = vec![usize::MAX; g.num_vertices()];
+                    let mut q = std::collections::VecDeque::from([from]);
+                    d[from as usize] = 0;
+                    while let Some(u) = q.pop_front() {
+                        if u == goal {
+                            return Some(d[u as usize]);
+                        }
+                        for &w in g.neighbors(u) {
+                            if w != cur && d[w as usize] == usize::MAX && !blocked(node(w)) {
+                                d[w as usize] = d[u as usize] + 1;
+                                q.push_back(w);
+                            }
+                        }
+                    }
+                    None
+                };
+                let mut best: Option<(usize, VertexId)> = None;
+                for &nk in g.neighbors(cur) {
+                    if occupied(node(nk)) {
+                        continue;
+                    }
+                    if let Some(len) = route(nk)
+                        && best.is_none_or(|(b, _)| len < b)
+                    {
+                        best = Some((len, nk));
+                    }
+                }
+                if let Some((_, nk)) = best {
+                    pos[r] = nk;
+                }
+            }
+            for r in 0..n {
+                parked_ever[r] |= pos[r] == inst.goals[r];
+                paths[r].push(pos[r]);
+            }
+            if !seen.insert(pos.clone()) {
+                return (paths, GreedyEnd::Cycle);
+            }
+        }
+        let end = if pos == inst.goals {
+            GreedyEnd::AllOnGoal
+        } else {
+            GreedyEnd::StepCap
+        };
+        (paths, end)
+    }
+
+    #[test]
+    fn greedy_stage_matches_a_plain_breadth_first_reference() {
+        // Random maps with rooms, corridors and dead ends; robots crowded enough to wall each
+        // other in (the case the greedy stage skips searches for).
+        let mut x = 0x9e37_79b9_7f4a_7c15u64;
+        let mut next = move |m: usize| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            (x % m as u64) as usize
+        };
+        let mut cases = 0;
+        while cases < 150 {
+            let (w, h) = (4 + next(9), 3 + next(7));
+            let density = next(40);
+            let rows: Vec<Vec<bool>> = (0..h)
+                .map(|_| (0..w).map(|_| next(100) >= density).collect())
+                .collect();
+            let m = GridMap::from_free_rows(&rows);
+            let g = m.graph();
+            let nv = g.num_vertices();
+            if nv < 4 {
+                continue;
+            }
+            let agents = 2 + next((nv / 2).min(10));
+            let mut cells: Vec<VertexId> = (0..nv as VertexId).collect();
+            let mut pick = |cells: &mut Vec<VertexId>| {
+                let mut out = Vec::new();
+                for _ in 0..agents {
+                    let i = next(cells.len());
+                    out.push(cells.swap_remove(i));
+                }
+                out
+            };
+            let starts = pick(&mut cells.clone());
+            let goals = pick(&mut cells);
+            let dist = GoalDistances::new(g, &goals);
+            if starts
+                .iter()
+                .enumerate()
+                .any(|(i, &s)| dist.get(i, s) == UNREACHABLE)
+            {
+                continue;
+            }
+            let inst = Instance::new(starts, goals).unwrap();
+            let c = Corridors::build(g);
+            let cap = 4 * nv + 100;
+            let mut rng = ChaCha8Rng::seed_from_u64(0);
+            let got = greedy_path_search(
+                g,
+                &c,
+                &dist,
+                &inst,
+                &HStar::default(),
+                &mut rng,
+                Deadline::none(),
+            )
+            .unwrap();
+            let want = reference_greedy(g, &c, &inst, cap);
+            assert_eq!(got, want, "map {rows:?}, robots {inst:?}");
+            cases += 1;
+        }
     }
 
     #[test]
