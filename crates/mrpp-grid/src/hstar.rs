@@ -907,10 +907,13 @@ pub fn local_replanning(
         outcome
     };
     // Whether no order of the pair `[a, b]` can be re-planned within `budget`: planned alone
-    // against every other path, each with the bound it gets when planned first, they fail or
-    // their earliest arrivals sum past the budget. Planning one first only adds reservations
-    // for the other and lowers its bound to the budget minus the first's arrival, so both
-    // orders would fail: the two SIPP searches answer for the four searches of the two orders.
+    // against every other path, their earliest arrivals sum past the budget (or one has none).
+    // Planning one first only adds reservations for the other and lowers its bound to the
+    // budget minus the first's arrival, so both orders would fail: two SIPP searches answer for
+    // the four searches of the two orders. The first search is bounded by the budget less the
+    // second robot's least possible arrival (its distance, and the time its goal stays
+    // reserved), the second by the budget less the first's arrival: a search that fails within
+    // that bound already proves the sum too large.
     let hopeless = |res: &mut Reservations,
                     paths: &[Vec<VertexId>],
                     [a, b]: [usize; 2],
@@ -918,28 +921,29 @@ pub fn local_replanning(
      -> Result<bool, Unsolved> {
         res.release_path(&paths[a], 0, true);
         res.release_path(&paths[b], 0, true);
-        let mut sum = 0usize;
-        let mut outcome = Ok(false);
-        for (k, other) in [(a, b), (b, a)] {
-            let Some(bound) = budget.checked_sub(ideal(other)) else {
-                outcome = Ok(true);
-                break;
-            };
-            match earliest_arrival(g, inst, dist, k, res, bound as u32, deadline) {
-                Ok(arrival) => sum += arrival as usize,
-                Err(Search::TimedOut) => {
-                    outcome = Err(Unsolved::TimeLimit);
-                    break;
+        let least = |k: usize| {
+            res.free_for_good_from(inst.goals[k])
+                .map(|t| (t as usize).max(ideal(k)))
+        };
+        let first_bound = least(b).and_then(|lb| budget.checked_sub(lb));
+        let outcome = match first_bound {
+            None => Ok(true),
+            Some(bound) => match earliest_arrival(g, inst, dist, a, res, bound as u32, deadline) {
+                Ok(arrival) => {
+                    let bound = budget - arrival as usize;
+                    match earliest_arrival(g, inst, dist, b, res, bound as u32, deadline) {
+                        Ok(_) => Ok(false),
+                        Err(Search::TimedOut) => Err(Unsolved::TimeLimit),
+                        Err(_) => Ok(true),
+                    }
                 }
-                Err(_) => {
-                    outcome = Ok(true);
-                    break;
-                }
-            }
-        }
+                Err(Search::TimedOut) => Err(Unsolved::TimeLimit),
+                Err(_) => Ok(true),
+            },
+        };
         res.reserve_path(&paths[a], 0, true);
         res.reserve_path(&paths[b], 0, true);
-        outcome.map(|h| h || sum > budget)
+        outcome
     };
     // Replaces robot i's path, in the paths and in the table.
     let replace = |res: &mut Reservations, paths: &mut [Vec<VertexId>], i: usize, p| {
