@@ -311,20 +311,22 @@ fn cell_of(g: &Graph, v: VertexId) -> Cell {
 /// The first step at which two routes conflict (§0): the same cell at one step, a finished route
 /// staying on its last cell; or cells exchanged between the step before and this one.
 pub fn route_conflict<T: Copy + Eq>(a: &[T], b: &[T]) -> Option<usize> {
-    let horizon = a.len().max(b.len());
-    let at = |r: &[T], t: usize| r[t.min(r.len() - 1)];
-    let (mut pa, mut pb) = (a[0], b[0]);
-    if pa == pb {
+    if a[0] == b[0] {
         return Some(0);
     }
-    for t in 1..horizon {
-        let (na, nb) = (at(a, t), at(b, t));
-        if na == nb || (na == pb && nb == pa && na != pa) {
+    // While both move: a shared cell, or cells exchanged.
+    let common = a.len().min(b.len());
+    for t in 1..common {
+        let (na, nb) = (a[t], b[t]);
+        if na == nb || (na == b[t - 1] && nb == a[t - 1] && na != a[t - 1]) {
             return Some(t);
         }
-        (pa, pb) = (na, nb);
     }
-    None
+    // Then the longer route against the shorter one's last cell (an exchange with a robot that
+    // stays is a shared cell).
+    let (long, short) = if a.len() >= b.len() { (a, b) } else { (b, a) };
+    let last = short[common - 1];
+    (common..long.len()).find(|&t| long[t] == last)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -479,10 +481,12 @@ pub struct Individual {
     pub collisions: u32,
     /// The earliest step at which it truly collides with a collaborator.
     pub collision_step: Option<usize>,
+    /// Names the route within one run (copies keep it): [`Conflicts`] remembers pairs by it.
+    pub id: u64,
 }
 
 impl Individual {
-    fn new(route: Vec<Cell>, goal: Cell, grid: &GridCells) -> Self {
+    fn new(route: Vec<Cell>, goal: Cell, grid: &GridCells, id: u64) -> Self {
         let invalid =
             route.last() != Some(&goal) || route.iter().any(|&c| grid.vertex(c).is_none());
         Individual {
@@ -490,6 +494,7 @@ impl Individual {
             invalid,
             collisions: 0,
             collision_step: None,
+            id,
         }
     }
 
@@ -554,12 +559,46 @@ pub fn choose_collaborators(
         .collect()
 }
 
-/// Fitness of an individual of robot `me` against one set of collaborator routes per robot.
+/// [`route_conflict`] of individuals, remembered by their ids: survivors and collaborators
+/// persist from generation to generation, so most pairs are judged again and again.
+#[derive(Default)]
+pub struct Conflicts {
+    known: rustc_hash::FxHashMap<(u64, u64), Option<u32>>,
+    next_id: u64,
+}
+
+/// Pairs [`Conflicts`] remembers before it starts afresh (about 24 MB).
+const CONFLICTS_LIMIT: usize = 1 << 20;
+
+impl Conflicts {
+    /// A fresh individual id.
+    pub fn new_id(&mut self) -> u64 {
+        self.next_id += 1;
+        self.next_id
+    }
+
+    /// [`route_conflict`] of `a` and `b` (it is symmetric).
+    pub fn between(&mut self, a: &Individual, b: &Individual) -> Option<usize> {
+        let key = (a.id.min(b.id), a.id.max(b.id));
+        if let Some(&hit) = self.known.get(&key) {
+            return hit.map(|t| t as usize);
+        }
+        let hit = route_conflict(&a.route, &b.route);
+        if self.known.len() >= CONFLICTS_LIMIT {
+            self.known.clear();
+        }
+        self.known.insert(key, hit.map(|t| t as u32));
+        hit
+    }
+}
+
+/// Fitness of an individual of robot `me` against one set of collaborators per robot.
 pub fn evaluate_fitness(
     ind: &mut Individual,
     me: usize,
-    collaborators: &[Vec<Vec<Cell>>],
+    collaborators: &[Vec<Individual>],
     inverted: bool,
+    conflicts: &mut Conflicts,
 ) {
     let mut collisions = 0;
     let mut first: Option<usize> = None;
@@ -568,7 +607,7 @@ pub fn evaluate_fitness(
             continue;
         }
         for r in routes {
-            let hit = route_conflict(&ind.route, r);
+            let hit = conflicts.between(ind, r);
             if let Some(t) = hit {
                 first = Some(first.map_or(t, |f| f.min(t)));
             }
@@ -715,21 +754,23 @@ fn conflict_free_combination(
     }
     first.push(owner.len());
     let route = |c: usize| &populations[owner[c].0][owner[c].1].route;
-    // compatible[c][d] for c < d of different robots (the only entries the search reads).
-    let compatible: Vec<Vec<bool>> = (0..owner.len())
-        .map(|c| {
-            (0..owner.len())
-                .map(|d| {
-                    d <= c
-                        || owner[c].0 == owner[d].0
-                        || route_conflict(route(c), route(d)).is_none()
-                })
-                .collect()
-        })
-        .collect();
+    // Bit d of row c: candidate d is compatible with candidate c (only d > c of another robot
+    // is ever read; the others are set).
+    let m = owner.len();
+    let words = m.div_ceil(64).max(1);
+    let mut compatible = vec![u64::MAX; m * words];
+    for c in 0..m {
+        for d in c + 1..m {
+            if owner[c].0 != owner[d].0 && route_conflict(route(c), route(d)).is_some() {
+                compatible[c * words + d / 64] &= !(1 << (d % 64));
+            }
+        }
+    }
     let mut search = CombinationSearch {
         first: &first,
         compatible: &compatible,
+        words,
+        allowed: vec![u64::MAX; words],
         chosen: Vec::with_capacity(populations.len()),
         nodes: 0,
         node_cap,
@@ -742,7 +783,12 @@ fn conflict_free_combination(
 /// Depth-first search state of [`conflict_free_combination`].
 struct CombinationSearch<'a> {
     first: &'a [usize],
-    compatible: &'a [Vec<bool>],
+    /// Row-major bit matrix, `words` words per candidate.
+    compatible: &'a [u64],
+    words: usize,
+    /// Per depth (robots `0..chosen.len()` chosen), the candidates compatible with every chosen
+    /// one: `words` words each, the AND of the chosen candidates' rows.
+    allowed: Vec<u64>,
     /// Global candidate ids chosen for robots `0..chosen.len()`.
     chosen: Vec<usize>,
     nodes: usize,
@@ -755,13 +801,20 @@ impl CombinationSearch<'_> {
         if b + 1 == self.first.len() {
             return true;
         }
+        let w = self.words;
         for d in self.first[b]..self.first[b + 1] {
             self.nodes += 1;
             if self.nodes > self.node_cap {
                 return false;
             }
-            if self.chosen.iter().all(|&c| self.compatible[c][d]) {
+            if self.allowed[b * w + d / 64] & (1 << (d % 64)) != 0 {
                 self.chosen.push(d);
+                let row = &self.compatible[d * w..(d + 1) * w];
+                self.allowed.truncate((b + 1) * w);
+                for (k, &bits) in row.iter().enumerate() {
+                    let next = self.allowed[b * w + k] & bits;
+                    self.allowed.push(next);
+                }
                 if self.extend() {
                     return true;
                 }
@@ -810,21 +863,33 @@ pub fn cooperative_coevolution(
 ) -> Result<Vec<Vec<VertexId>>, Unsolved> {
     let nv = g.num_vertices();
     let to_cells = |r: &[VertexId]| -> Vec<Cell> { r.iter().map(|&v| cell_of(g, v)).collect() };
+    let mut conflicts = Conflicts::default();
     let mut populations: Vec<Vec<Individual>> = stage
         .history
         .iter()
         .zip(&inst.goals)
         .map(|(h, &goal)| {
             h.iter()
-                .map(|r| Individual::new(to_cells(r), cell_of(g, goal), grid))
+                .map(|r| {
+                    let id = conflicts.new_id();
+                    Individual::new(to_cells(r), cell_of(g, goal), grid, id)
+                })
                 .collect()
         })
         .collect();
     // Generation 0 is judged against the robots' current stage-1 routes.
-    let current: Vec<Vec<Vec<Cell>>> = stage.routes.iter().map(|r| vec![to_cells(r)]).collect();
+    let current: Vec<Vec<Individual>> = stage
+        .routes
+        .iter()
+        .zip(&inst.goals)
+        .map(|(r, &goal)| {
+            let id = conflicts.new_id();
+            vec![Individual::new(to_cells(r), cell_of(g, goal), grid, id)]
+        })
+        .collect();
     for (a, pop) in populations.iter_mut().enumerate() {
         for ind in pop.iter_mut() {
-            evaluate_fitness(ind, a, &current, cfg.inverted_fitness);
+            evaluate_fitness(ind, a, &current, cfg.inverted_fitness, &mut conflicts);
         }
         sort_population(pop);
     }
@@ -838,12 +903,12 @@ pub fn cooperative_coevolution(
         if deadline.expired() {
             return Err(Unsolved::TimeLimit);
         }
-        let collaborators: Vec<Vec<Vec<Cell>>> = populations
+        let collaborators: Vec<Vec<Individual>> = populations
             .iter()
             .map(|pop| {
                 choose_collaborators(pop, cfg, rng)
                     .into_iter()
-                    .map(|i| pop[i].route.clone())
+                    .map(|i| pop[i].clone())
                     .collect()
             })
             .collect();
@@ -856,14 +921,14 @@ pub fn cooperative_coevolution(
                 .iter()
                 .map(|ind| {
                     let child = mutate(&ind.route, ind.collision_step, generation, cfg, grid, rng);
-                    Individual::new(child, goal, grid)
+                    Individual::new(child, goal, grid, conflicts.new_id())
                 })
                 .collect();
             pop.extend(children);
         }
         for (a, pop) in populations.iter_mut().enumerate() {
             for ind in pop.iter_mut() {
-                evaluate_fitness(ind, a, &collaborators, cfg.inverted_fitness);
+                evaluate_fitness(ind, a, &collaborators, cfg.inverted_fitness, &mut conflicts);
             }
             sort_population(pop);
             if !settled[a] {
@@ -1071,7 +1136,7 @@ mod tests {
                 assert!(Move::between(w[0], w[1]).is_some(), "{w:?} not 4-connected");
             }
             assert_eq!(moves_of(&child).len(), child.len() - 1);
-            let ind = Individual::new(child.clone(), goal, &grid);
+            let ind = Individual::new(child.clone(), goal, &grid, 0);
             if !ind.invalid {
                 valid_children += 1;
                 // Keep walking through valid routes so that halts and detours accumulate.
@@ -1093,7 +1158,7 @@ mod tests {
             .map(|k| {
                 let mut route = vec![(1, 1); k + 1];
                 route.push((2, 1));
-                Individual::new(route, (2, 1), &grid)
+                Individual::new(route, (2, 1), &grid, k as u64)
             })
             .collect();
         sort_population(&mut pop);
