@@ -58,7 +58,7 @@ use mrpp_core::mapf::graph::{Graph, VertexId};
 use mrpp_core::mapf::instance::Instance;
 use mrpp_core::mapf::plan::{Plan, first_conflict, position};
 use mrpp_core::mapf::search::distance::{GoalDistances, UNREACHABLE};
-use mrpp_core::mapf::search::sipp::sipp;
+use mrpp_core::mapf::search::sipp;
 use mrpp_core::mapf::search::spacetime::{Query, Reservations, Search, space_time_astar};
 use mrpp_core::{MapfProblem, Param, PlannerEntry};
 
@@ -490,7 +490,7 @@ pub fn collision_elimination(
 /// Space-time A* for robot `i` from its start at time 0 against `res`, arriving by `max_time`,
 /// guided by its goal's distance table `dist`.
 ///
-/// SIPP ([`sipp`]) answers first: it finds the same earliest arrival as space-time A* in far
+/// SIPP ([`sipp::earliest_arrival`]) answers first: it finds the same earliest arrival as space-time A* in far
 /// fewer states, so a robot that cannot arrive by `max_time` (most queries of
 /// [`local_replanning`]) costs one SIPP search. When it can, space-time A* runs with `max_time`
 /// set to that arrival: the states it then skips could never be expanded before the goal, so the
@@ -555,10 +555,7 @@ fn earliest_arrival(
         return Err(Search::NotFound);
     }
     let h = |v: VertexId| dist.get(i, v);
-    match sipp(&robot_query(g, inst, i, &h, max_time, deadline), res) {
-        Search::Found(p) => Ok(p.len() as u32 - 1),
-        other => Err(other),
-    }
+    sipp::earliest_arrival(&robot_query(g, inst, i, &h, max_time, deadline), res)
 }
 
 /// Every robot's goal distances, grown to its start before `deadline` (lazy tables: memory per
@@ -822,6 +819,14 @@ pub fn complete_with_lacam(
     Ok(out)
 }
 
+/// An order [`local_replanning`] re-planned: the paths of all but its last robot, in order, the
+/// last robot's arrival, and the order's summed cost.
+struct Planned {
+    firsts: Vec<Vec<VertexId>>,
+    last_arrival: u32,
+    total: usize,
+}
+
 /// Our second extension of the local search (repaired variant only), in two moves, repeated while
 /// either improves something (at most `passes` times):
 /// - *single*: each robot in turn, most delayed first, is re-planned with space-time A* against
@@ -866,15 +871,19 @@ pub fn local_replanning(
     for p in paths.iter() {
         res.reserve_path(p, 0, true);
     }
+    // The last robot of an order needs only its arrival to judge the order (its cost is its
+    // arrival); its path is drawn by `finish` once the order is kept, against the same table, so
+    // it is the path planning it in turn would have drawn. Orders that are not kept cost it one
+    // SIPP search instead of SIPP and space-time A*.
     let replan = |res: &mut Reservations,
                   paths: &[Vec<VertexId>],
                   order: &[usize],
                   budget: usize|
-     -> Result<Option<Vec<Vec<VertexId>>>, Unsolved> {
+     -> Result<Option<Planned>, Unsolved> {
         for &i in order {
             res.release_path(&paths[i], 0, true);
         }
-        let mut out: Vec<Vec<VertexId>> = Vec::with_capacity(order.len());
+        let mut firsts: Vec<Vec<VertexId>> = Vec::with_capacity(order.len() - 1);
         let mut left = budget;
         let mut outcome = Ok(None);
         for (k, &i) in order.iter().enumerate() {
@@ -882,11 +891,26 @@ pub fn local_replanning(
             let Some(bound) = left.checked_sub(others) else {
                 break;
             };
+            if k + 1 == order.len() {
+                match earliest_arrival(g, inst, dist, i, res, bound as u32, deadline) {
+                    Ok(arrival) => {
+                        let total = budget - left + arrival as usize;
+                        outcome = Ok(Some(Planned {
+                            firsts: std::mem::take(&mut firsts),
+                            last_arrival: arrival,
+                            total,
+                        }));
+                    }
+                    Err(Search::TimedOut) => outcome = Err(Unsolved::TimeLimit),
+                    Err(_) => {}
+                }
+                break;
+            }
             match plan_robot(g, inst, dist, i, res, bound as u32, deadline) {
                 Search::Found(p) => {
                     res.reserve_path(&p, 0, true);
                     left -= cost(&p, i).min(left);
-                    out.push(p);
+                    firsts.push(p);
                 }
                 Search::TimedOut => {
                     outcome = Err(Unsolved::TimeLimit);
@@ -895,16 +919,52 @@ pub fn local_replanning(
                 Search::NotFound => break,
             }
         }
-        for p in &out {
+        for p in &firsts {
+            res.release_path(p, 0, true);
+        }
+        if let Ok(Some(planned)) = &outcome {
+            for p in &planned.firsts {
+                res.release_path(p, 0, true);
+            }
+        }
+        for &i in order {
+            res.reserve_path(&paths[i], 0, true);
+        }
+        outcome
+    };
+    // The paths of an order `replan` kept, the last robot's drawn now: space-time A* against the
+    // table `replan` planned it against, bounded by the arrival SIPP found there.
+    let finish = |res: &mut Reservations,
+                  paths: &[Vec<VertexId>],
+                  order: &[usize],
+                  planned: Planned|
+     -> Result<Vec<Vec<VertexId>>, Unsolved> {
+        for &i in order {
+            res.release_path(&paths[i], 0, true);
+        }
+        for p in &planned.firsts {
+            res.reserve_path(p, 0, true);
+        }
+        let last = order[order.len() - 1];
+        let h = |v: VertexId| dist.get(last, v);
+        let q = robot_query(g, inst, last, &h, planned.last_arrival, deadline);
+        let found = space_time_astar(&q, res);
+        for p in &planned.firsts {
             res.release_path(p, 0, true);
         }
         for &i in order {
             res.reserve_path(&paths[i], 0, true);
         }
-        if out.len() == order.len() {
-            outcome = Ok(Some(out));
+        match found {
+            Search::Found(p) => {
+                debug_assert_eq!(cost(&p, last), planned.last_arrival as usize);
+                let mut out = planned.firsts;
+                out.push(p);
+                Ok(out)
+            }
+            Search::TimedOut => Err(Unsolved::TimeLimit),
+            Search::NotFound => unreachable!("SIPP found an arrival on the same table"),
         }
-        outcome
     };
     // Whether no order of the pair `[a, b]` can be re-planned within `budget`: planned alone
     // against every other path, their earliest arrivals sum past the budget (or one has none).
@@ -965,7 +1025,8 @@ pub fn local_replanning(
                 continue;
             }
             match replan(&mut res, paths, &[i], current - 1)? {
-                Some(mut p) if cost(&p[0], i) < current => {
+                Some(planned) if planned.total < current => {
+                    let mut p = finish(&mut res, paths, &[i], planned)?;
                     replace(&mut res, paths, i, p.remove(0));
                     version += 1;
                     improved = true;
@@ -994,20 +1055,16 @@ pub fn local_replanning(
                     }
                     continue;
                 }
-                let mut best: Option<(usize, Vec<Vec<VertexId>>)> = None;
+                let mut best: Option<([usize; 2], Planned)> = None;
                 for pair in [[i, j], [j, i]] {
                     if fruitless.get(&pair[..]) == Some(&version) {
                         continue;
                     }
                     let mut better = false;
-                    if let Some(ps) = replan(&mut res, paths, &pair, before - 1)? {
-                        let total = cost(&ps[0], pair[0]) + cost(&ps[1], pair[1]);
-                        if total < before && best.as_ref().is_none_or(|(b, _)| total < *b) {
-                            let mut ordered = ps;
-                            if pair[0] == j {
-                                ordered.swap(0, 1);
-                            }
-                            best = Some((total, ordered));
+                    if let Some(planned) = replan(&mut res, paths, &pair, before - 1)? {
+                        let total = planned.total;
+                        if total < before && best.as_ref().is_none_or(|(_, b)| total < b.total) {
+                            best = Some((pair, planned));
                             better = true;
                         }
                     }
@@ -1015,7 +1072,11 @@ pub fn local_replanning(
                         fruitless.insert(pair.to_vec(), version);
                     }
                 }
-                if let Some((_, mut ps)) = best {
+                if let Some((pair, planned)) = best {
+                    let mut ps = finish(&mut res, paths, &pair, planned)?;
+                    if pair[0] == j {
+                        ps.swap(0, 1);
+                    }
                     replace(&mut res, paths, j, ps.pop().expect("two paths"));
                     replace(&mut res, paths, i, ps.pop().expect("two paths"));
                     version += 1;

@@ -39,8 +39,7 @@ pub fn sipp(q: &Query, res: &Reservations) -> Search {
     if !res.vertex_free(q.start, q.start_time) {
         return Search::NotFound;
     }
-    let h = |v: VertexId| (q.h)(v);
-    if h(q.start) == u32::MAX {
+    if (q.h)(q.start) == u32::MAX {
         return Search::NotFound;
     }
     let mut nodes = vec![Node {
@@ -50,7 +49,7 @@ pub fn sipp(q: &Query, res: &Reservations) -> Search {
     }];
     // (f, g, insertion order, node): max-heap on lower f, then higher g, then earlier insertion.
     let mut open: BinaryHeap<(Reverse<u32>, u32, Reverse<u32>, u32)> = BinaryHeap::new();
-    open.push((Reverse(h(q.start)), 0, Reverse(0), 0));
+    open.push((Reverse((q.h)(q.start)), 0, Reverse(0), 0));
     // (vertex, interval start) -> (earliest arrival, expanded).
     let mut best: FxHashMap<(VertexId, u32), (u32, bool)> = FxHashMap::default();
     best.insert(
@@ -78,50 +77,170 @@ pub fn sipp(q: &Query, res: &Reservations) -> Search {
         if t >= q.max_time {
             continue;
         }
-        // The agent may stay on `v` up to `stay` (the end of its safe interval), so it can
-        // arrive on a neighbour at any time in `t + 1 ..= stay + 1`.
-        let stay = res
-            .next_reserved(v, t + 1)
-            .saturating_sub(1)
-            .min(q.max_time - 1);
-        for &w in q.graph.neighbors(v) {
-            let hw = h(w);
-            if hw == u32::MAX {
-                continue;
+        successors(q, res, v, t, |w, a, hw| {
+            let key = (w, res.interval_start(w, a));
+            let e = best.entry(key).or_insert((u32::MAX, false));
+            if !e.1 && a < e.0 {
+                *e = (a, false);
+                nodes.push(Node {
+                    v: w,
+                    t: a,
+                    parent: idx,
+                });
+                counter += 1;
+                let g = a - q.start_time;
+                open.push((Reverse(g + hw), g, Reverse(counter), nodes.len() as u32 - 1));
             }
-            let mut a = t + 1;
-            loop {
-                a = res.first_free(w, a);
-                if a == u32::MAX || a > stay + 1 || a.saturating_add(hw) > q.max_time {
-                    break;
-                }
-                if res.arrives(v, a, w) {
-                    // A reserved path moves w -> v at `a`, so `v` is taken at `a` and this is
-                    // the last arrival the interval of `v` allows: no move to `w` from it.
-                    break;
-                }
-                let key = (w, res.interval_start(w, a));
-                let e = best.entry(key).or_insert((u32::MAX, false));
-                if !e.1 && a < e.0 {
-                    *e = (a, false);
-                    nodes.push(Node {
-                        v: w,
-                        t: a,
-                        parent: idx,
-                    });
-                    counter += 1;
-                    let g = a - q.start_time;
-                    open.push((Reverse(g + hw), g, Reverse(counter), nodes.len() as u32 - 1));
-                }
-                // On to the next safe interval of `w`.
-                a = res.next_reserved(w, a);
-                if a == u32::MAX {
-                    break;
-                }
+        });
+    }
+    Search::NotFound
+}
+
+/// The successor states of `v` reached at `t` (the start of its stay in a safe interval): for each
+/// neighbour `w` and each safe interval of `w` the agent can enter before its interval on `v`
+/// ends, `visit(w, a, h(w))` with the earliest arrival `a` in it. Arrivals that cannot reach the
+/// goal by `q.max_time` (by `q.h`) are left out; the caller checks `t < q.max_time`.
+#[inline]
+fn successors(
+    q: &Query,
+    res: &Reservations,
+    v: VertexId,
+    t: u32,
+    mut visit: impl FnMut(VertexId, u32, u32),
+) {
+    // The agent may stay on `v` up to `stay` (the end of its safe interval), so it can
+    // arrive on a neighbour at any time in `t + 1 ..= stay + 1`.
+    let stay = res
+        .next_reserved(v, t + 1)
+        .saturating_sub(1)
+        .min(q.max_time - 1);
+    for &w in q.graph.neighbors(v) {
+        let hw = (q.h)(w);
+        if hw == u32::MAX {
+            continue;
+        }
+        let mut a = t + 1;
+        loop {
+            a = res.first_free(w, a);
+            if a == u32::MAX || a > stay + 1 || a.saturating_add(hw) > q.max_time {
+                break;
+            }
+            if res.arrives(v, a, w) {
+                // A reserved path moves w -> v at `a`, so `v` is taken at `a` and this is
+                // the last arrival the interval of `v` allows: no move to `w` from it.
+                break;
+            }
+            visit(w, a, hw);
+            // On to the next safe interval of `w`.
+            a = res.next_reserved(w, a);
+            if a == u32::MAX {
+                break;
             }
         }
     }
-    Search::NotFound
+}
+
+/// [`sipp`]'s arrival time alone: the earliest time, at most `q.max_time`, at which the agent can
+/// stand on `q.goal` for ever, or `Err` ([`Search::NotFound`], [`Search::TimedOut`]). The same
+/// number [`sipp`] finds (a property test checks), with less bookkeeping since no path is drawn:
+///
+/// - the open list is a bucket queue on `f = g + h` (integers up to `q.max_time`), ties in any
+///   order;
+/// - with a consistent `q.h`, a vertex's states leave the queue in order of time, so a state is
+///   dominated exactly when the vertex's latest expanded state lies in the same safe interval,
+///   and one mark per vertex (its interval's end) replaces the table of states.
+///
+/// Tables are kept per thread and stamped per query. `q.h` must be consistent (a distance
+/// table is); `q.window` must be `None`.
+pub fn earliest_arrival(q: &Query, res: &Reservations) -> Result<u32, Search> {
+    debug_assert!(q.window.is_none(), "SIPP has no windowed mode");
+    if !res.vertex_free(q.start, q.start_time) {
+        return Err(Search::NotFound);
+    }
+    let h0 = (q.h)(q.start);
+    if h0 == u32::MAX {
+        return Err(Search::NotFound);
+    }
+    if q.start == q.goal && res.free_from(q.start, q.start_time) {
+        return Ok(q.start_time);
+    }
+    if q.start_time.saturating_add(h0) > q.max_time {
+        return Err(Search::NotFound);
+    }
+    ARRIVAL.with_borrow_mut(|s| s.search(q, res, h0))
+}
+
+/// The per-thread tables of [`earliest_arrival`].
+#[derive(Default)]
+struct ArrivalScratch {
+    /// `buckets[f - f0]`: states `(v, t)` queued with that `f`.
+    buckets: Vec<Vec<(VertexId, u32)>>,
+    /// Per vertex: `stamp << 32 | end`, where `end` is the first reserved time after the
+    /// vertex's latest expanded state (its safe interval is `.. end`).
+    done: Vec<u64>,
+    stamp: u32,
+}
+
+thread_local! {
+    static ARRIVAL: std::cell::RefCell<ArrivalScratch> = std::cell::RefCell::default();
+}
+
+impl ArrivalScratch {
+    fn search(&mut self, q: &Query, res: &Reservations, h0: u32) -> Result<u32, Search> {
+        let nv = q.graph.num_vertices();
+        if self.done.len() < nv || self.stamp == u32::MAX {
+            self.done = vec![0; nv.max(self.done.len())];
+            self.stamp = 0;
+        }
+        self.stamp += 1;
+        let stamp = u64::from(self.stamp);
+        let f0 = q.start_time + h0;
+        let span = (q.max_time - f0) as usize + 1;
+        if self.buckets.len() < span {
+            self.buckets.resize_with(span, Vec::new);
+        }
+        for b in &mut self.buckets[..span] {
+            b.clear();
+        }
+        let buckets = &mut self.buckets[..span];
+        let done = &mut self.done;
+        // Whether a state at `(v, t)` lies in the interval of `v`'s latest expanded state.
+        let dominated = |done: &[u64], v: VertexId, t: u32| {
+            let d = done[v as usize];
+            d >> 32 == stamp && t < d as u32
+        };
+        buckets[0].push((q.start, q.start_time));
+        let mut expansions = 0u64;
+        let mut f = 0;
+        while f < span {
+            let Some((v, t)) = buckets[f].pop() else {
+                f += 1;
+                continue;
+            };
+            if dominated(done, v, t) {
+                continue;
+            }
+            if v == q.goal && res.free_from(v, t) {
+                return Ok(t);
+            }
+            done[v as usize] = stamp << 32 | u64::from(res.next_reserved(v, t));
+            expansions += 1;
+            if expansions.is_multiple_of(1024) && q.deadline.expired() {
+                return Err(Search::TimedOut);
+            }
+            if t >= q.max_time {
+                continue;
+            }
+            successors(q, res, v, t, |w, a, hw| {
+                if !dominated(done, w, a) {
+                    // `a + hw >= f0 + f` for a consistent `h`; clamped for any other.
+                    let k = ((a + hw).saturating_sub(f0) as usize).max(f);
+                    buckets[k].push((w, a));
+                }
+            });
+        }
+        Err(Search::NotFound)
+    }
 }
 
 /// A search node: `v` first reached at time `t` from node `parent`.
@@ -224,7 +343,7 @@ mod tests {
 
     proptest! {
         /// SIPP finds a path exactly when space-time A* does, with the same arrival time, and
-        /// its path obeys every reservation.
+        /// its path obeys every reservation; [`earliest_arrival`] gives that arrival.
         #[test]
         fn sipp_matches_space_time_astar((g, paths, s, goal, t0, max_time) in case()) {
             let mut res = Reservations::new(g.num_vertices());
@@ -237,6 +356,11 @@ mod tests {
             q.start_time = t0;
             let a = space_time_astar(&q, &res);
             let b = sipp(&q, &res);
+            let arrival = earliest_arrival(&q, &res);
+            match &b {
+                Search::Found(pb) => prop_assert_eq!(arrival, Ok(t0 + pb.len() as u32 - 1)),
+                other => prop_assert_eq!(arrival, Err(other.clone())),
+            }
             match (&a, &b) {
                 (Search::Found(pa), Search::Found(pb)) => {
                     prop_assert_eq!(pa.len(), pb.len());
