@@ -199,8 +199,8 @@ impl Corridors {
         from: VertexId,
         goal: VertexId,
         avoid: VertexId,
-        blocked: &dyn Fn(NodeId) -> bool,
-        h: &dyn Fn(VertexId) -> u32,
+        blocked: impl Fn(NodeId) -> bool,
+        h: impl Fn(VertexId) -> u32,
         limit: u32,
         scratch: &mut RouteScratch,
     ) -> Option<u32> {
@@ -260,6 +260,7 @@ impl Corridors {
 
     /// Steps from `u` into `w` and on along `w`'s corridor to its far end, stopping early at the
     /// goal. Returns the cell reached and the number of steps, or `None` if `avoid` is in the way.
+    #[inline(always)]
     fn walk(
         &self,
         u: VertexId,
@@ -358,21 +359,13 @@ mod tests {
             goal,
             avoid,
             blocked,
-            &|v| g.manhattan(v, goal),
+            |v| g.manhattan(v, goal),
             u32::MAX,
             &mut scratch,
         );
         let exact = |v: VertexId| d[v as usize];
-        let by_distance = c.route_length(
-            g,
-            from,
-            goal,
-            avoid,
-            blocked,
-            &exact,
-            u32::MAX,
-            &mut scratch,
-        );
+        let by_distance =
+            c.route_length(g, from, goal, avoid, blocked, exact, u32::MAX, &mut scratch);
         assert_eq!(
             by_manhattan, by_distance,
             "{from} -> {goal} avoiding {avoid}"
@@ -381,7 +374,7 @@ mod tests {
         if let Some(len) = by_manhattan {
             for limit in len.saturating_sub(2)..=len + 1 {
                 let limited =
-                    c.route_length(g, from, goal, avoid, blocked, &exact, limit, &mut scratch);
+                    c.route_length(g, from, goal, avoid, blocked, exact, limit, &mut scratch);
                 assert_eq!(limited, (len <= limit).then_some(len), "limit {limit}");
             }
         }

@@ -273,7 +273,7 @@ pub fn greedy_path_search(
             {
                 continue; // no route from any neighbour, as at the last decision: r waits
             }
-            let h = |v: VertexId| dist.get(r, v);
+            let h = heuristic(dist, r);
             candidates.clear();
             let mut taken: Vec<NodeId> = Vec::new();
             for (k, &nk) in g.neighbors(cur).iter().enumerate() {
@@ -301,7 +301,7 @@ pub fn greedy_path_search(
                 let limit = best.saturating_sub(1);
                 let call = scratch.last_call();
                 let Some(rest) =
-                    corridors.route_length(g, nk, goal, cur, &blocked, &h, limit, &mut scratch)
+                    corridors.route_length(g, nk, goal, cur, blocked, &h, limit, &mut scratch)
                 else {
                     if best == u32::MAX && scratch.last_call() != call {
                         failed_calls.push(scratch.last_call());
@@ -506,11 +506,24 @@ fn plan_robot(
 ) -> Search {
     match earliest_arrival(g, inst, dist, i, res, max_time, deadline) {
         Ok(arrival) => {
-            let h = |v: VertexId| dist.get(i, v);
+            let h = heuristic(dist, i);
             let q = robot_query(g, inst, i, &h, arrival, deadline);
             space_time_astar(&q, res)
         }
         Err(other) => other,
+    }
+}
+
+/// Robot `i`'s goal distances as a search heuristic, read straight from its table when that is
+/// complete in 2-byte form (the searches ask for millions of them).
+fn heuristic<'d>(dist: &'d GoalDistances, i: usize) -> impl Fn(VertexId) -> u32 + 'd {
+    let table = dist.narrow(i);
+    move |v| match table {
+        Some(t) => match t[v as usize] {
+            u16::MAX => UNREACHABLE,
+            x => u32::from(x),
+        },
+        None => dist.get(i, v),
     }
 }
 
@@ -554,7 +567,7 @@ fn earliest_arrival(
     if dist.get(i, inst.starts[i]).max(goal_free) > max_time {
         return Err(Search::NotFound);
     }
-    let h = |v: VertexId| dist.get(i, v);
+    let h = heuristic(dist, i);
     sipp::earliest_arrival(&robot_query(g, inst, i, &h, max_time, deadline), res)
 }
 
@@ -946,7 +959,7 @@ pub fn local_replanning(
             res.reserve_path(p, 0, true);
         }
         let last = order[order.len() - 1];
-        let h = |v: VertexId| dist.get(last, v);
+        let h = heuristic(dist, last);
         let q = robot_query(g, inst, last, &h, planned.last_arrival, deadline);
         let found = space_time_astar(&q, res);
         for p in &planned.firsts {

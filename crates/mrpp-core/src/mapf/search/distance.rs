@@ -325,6 +325,16 @@ impl<'g> GoalDistances<'g> {
         self.packed
     }
 
+    /// Agent `i`'s whole table as 2 bytes per vertex (`u16::MAX` = no route), when
+    /// [`GoalDistances::warm_up`] completed it in that form (`None` otherwise: use
+    /// [`GoalDistances::get`]). Searches that ask for many distances read it directly.
+    pub fn narrow(&self, i: usize) -> Option<&[u16]> {
+        match self.complete.as_ref().map(|done| &done[i]) {
+            Some(Store::Narrow(d)) => Some(d),
+            _ => None,
+        }
+    }
+
     /// Hop distance from `v` to agent `i`'s goal ([`UNREACHABLE`] when there is no route).
     #[inline]
     pub fn get(&self, i: usize, v: VertexId) -> u32 {

@@ -343,26 +343,36 @@ fn search(q: &Query, res: &Reservations, seen: &mut Seen) -> Search {
         parent: u32,
     }
     let mut nodes: Vec<Node> = Vec::new();
-    // (f, g, insertion order, node index, terminal): max-heap on lower f, then higher g.
-    type Entry = (Reverse<u32>, u32, Reverse<u32>, u32, bool);
-    let mut open: BinaryHeap<Entry> = BinaryHeap::new();
     let end_time = q.window.map(|w| q.start_time + w);
-    let mut counter = 0u32;
+    let f0 = h(q.start, q.start_time);
+    // Full mode: `f` and `g` lie in `f0 ..= max_time - start_time` and `0 ..= max_time -
+    // start_time`, so a bucket queue over that grid replaces the heap when it is small.
+    let span = q.max_time.saturating_sub(q.start_time);
+    let grid = match end_time {
+        None if span >= f0 => Some(((span - f0) as usize + 1, span as usize + 1)),
+        _ => None,
+    };
+    let mut heap = None;
+    let mut open = match grid {
+        Some((levels, depths)) if levels * depths <= BUCKET_CELLS => {
+            let mut b = BUCKETS.take();
+            b.begin(f0, levels, depths);
+            Open::Buckets(b)
+        }
+        _ => Open::Heap(heap.insert(BinaryHeap::new()), 0),
+    };
     nodes.push(Node {
         v: q.start,
         t: q.start_time,
         parent: u32::MAX,
     });
-    open.push((
-        Reverse(h(q.start, q.start_time)),
-        0,
-        Reverse(counter),
-        0,
-        false,
-    ));
+    open.push(f0, 0, 0, false);
     seen.set(q.start, q.start_time, 0, false);
     let mut expansions = 0u64;
-    while let Some((_, g, _, idx, terminal)) = open.pop() {
+    let found = loop {
+        let Some((g, idx, terminal)) = open.pop() else {
+            break Search::NotFound;
+        };
         let (v, t) = (nodes[idx as usize].v, nodes[idx as usize].t);
         if terminal || (end_time.is_none() && v == q.goal && res.free_from(v, t)) {
             let mut path = Vec::with_capacity((t - q.start_time + 1) as usize);
@@ -372,7 +382,7 @@ fn search(q: &Query, res: &Reservations, seen: &mut Seen) -> Search {
                 i = nodes[i as usize].parent;
             }
             path.reverse();
-            return Search::Found(path);
+            break Search::Found(path);
         }
         match seen.get(v, t) {
             Some((g, false)) => seen.set(v, t, g, true),
@@ -380,20 +390,13 @@ fn search(q: &Query, res: &Reservations, seen: &mut Seen) -> Search {
         }
         expansions += 1;
         if expansions.is_multiple_of(1024) && q.deadline.expired() {
-            return Search::TimedOut;
+            break Search::TimedOut;
         }
         if let Some(end) = end_time {
             if t == end {
                 // Terminal: rank by g + h; re-queued so that cheaper terminals win.
-                counter += 1;
                 let hv = h(v, t);
-                open.push((
-                    Reverse(g.saturating_add(hv)),
-                    g,
-                    Reverse(counter),
-                    idx,
-                    true,
-                ));
+                open.push(g.saturating_add(hv), g, idx, true);
                 continue;
             }
         } else if t >= q.max_time {
@@ -402,12 +405,12 @@ fn search(q: &Query, res: &Reservations, seen: &mut Seen) -> Search {
         let nt = t + 1;
         let waits_free = end_time.is_some() && v == q.goal;
         for &w in std::iter::once(&v).chain(q.graph.neighbors(v)) {
-            if !res.move_free(v, w, nt) {
-                continue;
-            }
             let hw = h(w, nt);
             // Unreachable, or (full mode) cannot arrive by `max_time` even unobstructed.
             if hw == u32::MAX || (end_time.is_none() && nt.saturating_add(hw) > q.max_time) {
+                continue;
+            }
+            if !res.move_free(v, w, nt) {
                 continue;
             }
             let ng = g + if w == v && waits_free { 0 } else { 1 };
@@ -421,17 +424,121 @@ fn search(q: &Query, res: &Reservations, seen: &mut Seen) -> Search {
                 t: nt,
                 parent: idx,
             });
-            counter += 1;
-            open.push((
-                Reverse(ng + hw),
-                ng,
-                Reverse(counter),
-                nodes.len() as u32 - 1,
-                false,
-            ));
+            open.push(ng + hw, ng, nodes.len() as u32 - 1, false);
+        }
+    };
+    if let Open::Buckets(b) = open {
+        BUCKETS.set(b);
+    }
+    found
+}
+
+/// Bucket queues up to this many `(f, g)` cells; beyond, a binary heap.
+const BUCKET_CELLS: usize = 1 << 16;
+
+thread_local! {
+    /// The calling thread's bucket queue, lent to one search at a time.
+    static BUCKETS: std::cell::Cell<Buckets> = std::cell::Cell::default();
+}
+
+/// The open list of [`space_time_astar`]: entries leave in order of lower `f`, then higher `g`,
+/// then insertion (each entry is a node index; a terminal flag for windowed mode).
+enum Open<'h> {
+    /// `(f, g, insertion order, node index, terminal)`, a max-heap on lower `f`, then higher `g`.
+    /// The heap, and the number of entries pushed so far.
+    #[allow(clippy::type_complexity)]
+    Heap(
+        &'h mut BinaryHeap<(Reverse<u32>, u32, Reverse<u32>, u32, bool)>,
+        u32,
+    ),
+    /// Full mode, when the `(f, g)` grid is small: one FIFO per cell, in the same order.
+    Buckets(Buckets),
+}
+
+impl Open<'_> {
+    #[inline]
+    fn push(&mut self, f: u32, g: u32, idx: u32, terminal: bool) {
+        match self {
+            Open::Heap(heap, counter) => {
+                *counter += 1;
+                heap.push((Reverse(f), g, Reverse(*counter), idx, terminal));
+            }
+            Open::Buckets(b) => b.push(f, g, idx),
         }
     }
-    Search::NotFound
+
+    #[inline]
+    fn pop(&mut self) -> Option<(u32, u32, bool)> {
+        match self {
+            Open::Heap(heap, _) => heap
+                .pop()
+                .map(|(_, g, _, idx, terminal)| (g, idx, terminal)),
+            Open::Buckets(b) => b.pop().map(|(g, idx)| (g, idx, false)),
+        }
+    }
+}
+
+/// A bucket queue over `f` in `f0 .. f0 + levels` and `g` in `0 .. depths`: per cell a FIFO of
+/// node indices (a vector and its read position). Within a level the highest `g` with entries
+/// leaves first; `top[l]` bounds it from above.
+#[derive(Default)]
+struct Buckets {
+    cells: Vec<Vec<u32>>,
+    heads: Vec<u32>,
+    top: Vec<i64>,
+    touched: Vec<u32>,
+    f0: u32,
+    depths: usize,
+    level: usize,
+}
+
+impl Buckets {
+    fn begin(&mut self, f0: u32, levels: usize, depths: usize) {
+        for &c in &self.touched {
+            self.cells[c as usize].clear();
+            self.heads[c as usize] = 0;
+        }
+        self.touched.clear();
+        let n = levels * depths;
+        if self.cells.len() < n {
+            self.cells.resize_with(n, Vec::new);
+            self.heads.resize(n, 0);
+        }
+        self.top.clear();
+        self.top.resize(levels, -1);
+        (self.f0, self.depths, self.level) = (f0, depths, 0);
+    }
+
+    #[inline]
+    fn push(&mut self, f: u32, g: u32, idx: u32) {
+        // A heuristic that is not consistent may queue below the current level.
+        let l = (f.saturating_sub(self.f0) as usize).min(self.top.len() - 1);
+        let c = l * self.depths + g as usize;
+        if self.cells[c].is_empty() {
+            self.touched.push(c as u32);
+        }
+        self.cells[c].push(idx);
+        self.top[l] = self.top[l].max(i64::from(g));
+        self.level = self.level.min(l);
+    }
+
+    #[inline]
+    fn pop(&mut self) -> Option<(u32, u32)> {
+        while self.level < self.top.len() {
+            let l = self.level;
+            while self.top[l] >= 0 {
+                let c = l * self.depths + self.top[l] as usize;
+                let head = self.heads[c] as usize;
+                if let Some(&idx) = self.cells[c].get(head) {
+                    self.heads[c] += 1;
+                    return Some((self.top[l] as u32, idx));
+                }
+                self.top[l] -= 1;
+            }
+            self.level += 1;
+        }
+        None
+    }
 }
 
 /// A full-mode query from `start` at time 0 (the tests of this module and of SIPP).
