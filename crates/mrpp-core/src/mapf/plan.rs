@@ -200,11 +200,30 @@ pub fn first_conflict(
     num_vertices: usize,
     allow_following: bool,
 ) -> Option<Conflict> {
+    first_conflict_from(paths, num_vertices, allow_following, 0)
+}
+
+/// [`first_conflict`] for paths known to have no conflict before time `from` (a vertex conflict
+/// at a step `< from`, or a swap or following conflict arriving at one): the scan starts at
+/// `from`, and the answer is the one [`first_conflict`] gives. H*'s collision elimination changes
+/// two paths only after the conflict it clears, so it rescans from there.
+pub fn first_conflict_from(
+    paths: &[Vec<VertexId>],
+    num_vertices: usize,
+    allow_following: bool,
+    from: usize,
+) -> Option<Conflict> {
     let horizon = paths.iter().map(Vec::len).max().unwrap_or(0);
     const FREE: u32 = u32::MAX;
     let mut prev = vec![FREE; num_vertices];
     let mut cur = vec![FREE; num_vertices];
-    for t in 0..horizon {
+    if from > 0 {
+        // The step before `from`, conflict-free: one agent per occupied vertex.
+        for (i, p) in paths.iter().enumerate() {
+            prev[position(p, from - 1) as usize] = i as u32;
+        }
+    }
+    for t in from..horizon {
         for (i, p) in paths.iter().enumerate() {
             let v = position(p, t) as usize;
             if t > 0 {
@@ -254,6 +273,18 @@ pub fn first_conflict(
         std::mem::swap(&mut prev, &mut cur);
     }
     None
+}
+
+/// Whether two paths conflict at a step `>= from` (both non-empty): they share a vertex at a
+/// step, or swap along an edge (following allowed). For two paths with no conflict before `from`
+/// this is `first_conflict_from(&[p, q], _, true, from).is_some()`, without its tables.
+pub fn pair_conflicts_from(p: &[VertexId], q: &[VertexId], from: usize) -> bool {
+    let horizon = p.len().max(q.len());
+    // A swap is `p: u -> v` while `q: v -> u` (with `u == v` it is a vertex conflict).
+    (from..horizon).any(|t| {
+        let (pv, qv) = (position(p, t), position(q, t));
+        pv == qv || (t > 0 && pv == position(q, t - 1) && qv == position(p, t - 1))
+    })
 }
 
 /// Cost of one path under `semantics`: last arrival (`stay`) or first arrival (`visit`);
