@@ -890,6 +890,28 @@ pub fn local_replanning(
     for p in paths.iter() {
         res.reserve_path(p, 0, true);
     }
+    // SIPP arrivals of robots planned alone against every path but those of `released` (sorted;
+    // one robot twice): `Ok(a)` the earliest arrival, `Err(b)` none by `b`. The pair check and
+    // both orders of a pair ask the same questions; emptied whenever a path changes.
+    type Alone = rustc_hash::FxHashMap<([usize; 2], usize), Result<u32, u32>>;
+    let alone: std::cell::RefCell<Alone> = Default::default();
+    let arrival_alone =
+        |res: &Reservations, released: [usize; 2], i: usize, bound: u32| -> Result<u32, Search> {
+            let key = (released, i);
+            match alone.borrow().get(&key) {
+                Some(&Ok(a)) if a <= bound => return Ok(a),
+                Some(&Ok(_)) => return Err(Search::NotFound),
+                Some(&Err(b)) if bound <= b => return Err(Search::NotFound),
+                _ => {}
+            }
+            let found = earliest_arrival(g, inst, dist, i, res, bound, deadline);
+            match found {
+                Ok(a) => alone.borrow_mut().insert(key, Ok(a)),
+                Err(Search::NotFound) => alone.borrow_mut().insert(key, Err(bound)),
+                Err(_) => None,
+            };
+            found
+        };
     // The last robot of an order needs only its arrival to judge the order (its cost is its
     // arrival); its path is drawn by `finish` once the order is kept, against the same table, so
     // it is the path planning it in turn would have drawn. Orders that are not kept cost it one
@@ -905,13 +927,23 @@ pub fn local_replanning(
         let mut firsts: Vec<Vec<VertexId>> = Vec::with_capacity(order.len() - 1);
         let mut left = budget;
         let mut outcome = Ok(None);
+        let released = [
+            order[0].min(order[order.len() - 1]),
+            order[0].max(order[order.len() - 1]),
+        ];
         for (k, &i) in order.iter().enumerate() {
             let others: usize = order[k + 1..].iter().map(|&j| ideal(j)).sum();
             let Some(bound) = left.checked_sub(others) else {
                 break;
             };
+            // The first robot is planned against the table without the order's robots.
+            let arrival = if k == 0 {
+                arrival_alone(res, released, i, bound as u32)
+            } else {
+                earliest_arrival(g, inst, dist, i, res, bound as u32, deadline)
+            };
             if k + 1 == order.len() {
-                match earliest_arrival(g, inst, dist, i, res, bound as u32, deadline) {
+                match arrival {
                     Ok(arrival) => {
                         let total = budget - left + arrival as usize;
                         outcome = Ok(Some(Planned {
@@ -925,7 +957,14 @@ pub fn local_replanning(
                 }
                 break;
             }
-            match plan_robot(g, inst, dist, i, res, bound as u32, deadline) {
+            let found = match arrival {
+                Ok(arrival) => {
+                    let h = heuristic(dist, i);
+                    space_time_astar(&robot_query(g, inst, i, &h, arrival, deadline), res)
+                }
+                Err(other) => other,
+            };
+            match found {
                 Search::Found(p) => {
                     res.reserve_path(&p, 0, true);
                     left -= cost(&p, i).min(left);
@@ -1000,6 +1039,7 @@ pub fn local_replanning(
      -> Result<bool, Unsolved> {
         res.release_path(&paths[a], 0, true);
         res.release_path(&paths[b], 0, true);
+        let released = [a.min(b), a.max(b)];
         let least = |k: usize| {
             res.free_for_good_from(inst.goals[k])
                 .map(|t| (t as usize).max(ideal(k)))
@@ -1007,10 +1047,10 @@ pub fn local_replanning(
         let first_bound = least(b).and_then(|lb| budget.checked_sub(lb));
         let outcome = match first_bound {
             None => Ok(true),
-            Some(bound) => match earliest_arrival(g, inst, dist, a, res, bound as u32, deadline) {
+            Some(bound) => match arrival_alone(res, released, a, bound as u32) {
                 Ok(arrival) => {
                     let bound = budget - arrival as usize;
-                    match earliest_arrival(g, inst, dist, b, res, bound as u32, deadline) {
+                    match arrival_alone(res, released, b, bound as u32) {
                         Ok(_) => Ok(false),
                         Err(Search::TimedOut) => Err(Unsolved::TimeLimit),
                         Err(_) => Ok(true),
@@ -1026,6 +1066,7 @@ pub fn local_replanning(
     };
     // Replaces robot i's path, in the paths and in the table.
     let replace = |res: &mut Reservations, paths: &mut [Vec<VertexId>], i: usize, p| {
+        alone.borrow_mut().clear();
         res.release_path(&paths[i], 0, true);
         paths[i] = p;
         res.reserve_path(&paths[i], 0, true);
