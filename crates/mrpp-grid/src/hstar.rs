@@ -1121,7 +1121,9 @@ pub fn local_replanning(
                         continue;
                     }
                     let mut better = false;
-                    if let Some(planned) = replan(&mut res, paths, &pair, before - 1)? {
+                    // The second order counts only if it beats the first: bound it by that.
+                    let beat = best.as_ref().map_or(before, |(_, b)| b.total);
+                    if let Some(planned) = replan(&mut res, paths, &pair, beat - 1)? {
                         let total = planned.total;
                         if total < before && best.as_ref().is_none_or(|(_, b)| total < b.total) {
                             best = Some((pair, planned));
