@@ -493,30 +493,64 @@ pub fn collision_elimination(
     })
 }
 
-/// Space-time A* for robot `i` from its start at time 0 against `res`, arriving by `max_time`,
-/// guided by its goal's distance table `dist`.
-///
-/// SIPP ([`sipp::earliest_arrival`]) answers first: it finds the same earliest arrival as space-time A* in far
-/// fewer states, so a robot that cannot arrive by `max_time` (most queries of
-/// [`local_replanning`]) costs one SIPP search. When it can, space-time A* runs with `max_time`
-/// set to that arrival: the states it then skips could never be expanded before the goal, so the
-/// path is the one the unbounded search returns (plans do not depend on SIPP's tie-breaking).
-fn plan_robot(
-    g: &Graph,
-    inst: &Instance,
-    dist: &GoalDistances,
-    i: usize,
-    res: &Reservations,
-    max_time: u32,
+/// The robots' single-robot searches, from their starts at time 0 against a reservation table,
+/// guided by their goal distances.
+struct Robots<'a> {
+    g: &'a Graph,
+    inst: &'a Instance,
+    dist: &'a GoalDistances<'a>,
     deadline: Deadline,
-) -> Search {
-    match earliest_arrival(g, inst, dist, i, res, max_time, deadline) {
-        Ok(arrival) => {
-            let h = heuristic(dist, i);
-            let q = robot_query(g, inst, i, &h, arrival, deadline);
-            space_time_astar(&q, res)
+}
+
+impl Robots<'_> {
+    /// Space-time A* for robot `i` against `res`, arriving by `max_time`.
+    ///
+    /// SIPP ([`Robots::arrival`]) answers first: it finds the same earliest arrival as
+    /// space-time A* in far fewer states, so a robot that cannot arrive by `max_time` (most
+    /// queries of [`local_replanning`]) costs one SIPP search. When it can, space-time A* runs
+    /// with `max_time` set to that arrival ([`Robots::path`]).
+    fn plan(&self, i: usize, res: &Reservations, max_time: u32) -> Search {
+        match self.arrival(i, res, max_time) {
+            Ok(arrival) => self.path(i, res, arrival),
+            Err(other) => other,
         }
-        Err(other) => other,
+    }
+
+    /// Robot `i`'s space-time A* path against `res`, bounded by its earliest `arrival` there:
+    /// the states the bound skips could never be expanded before the goal, so the path is the
+    /// one the unbounded search returns (plans do not depend on SIPP's tie-breaking).
+    fn path(&self, i: usize, res: &Reservations, arrival: u32) -> Search {
+        let h = heuristic(self.dist, i);
+        space_time_astar(&self.query(i, &h, arrival), res)
+    }
+
+    /// The earliest time robot `i` can arrive for good against `res`, if it is at most
+    /// `max_time` ([`sipp::earliest_arrival`]). `Err` holds SIPP's failure.
+    fn arrival(&self, i: usize, res: &Reservations, max_time: u32) -> Result<u32, Search> {
+        // No arrival before the distance to go or while the goal is still reserved: a query
+        // whose bound is below that needs no search.
+        let Some(goal_free) = res.free_for_good_from(self.inst.goals[i]) else {
+            return Err(Search::NotFound);
+        };
+        if self.dist.get(i, self.inst.starts[i]).max(goal_free) > max_time {
+            return Err(Search::NotFound);
+        }
+        let h = heuristic(self.dist, i);
+        sipp::earliest_arrival(&self.query(i, &h, max_time), res)
+    }
+
+    /// The space-time query of robot `i` from its start at time 0, arriving by `max_time`.
+    fn query<'q>(&'q self, i: usize, h: &'q dyn Fn(VertexId) -> u32, max_time: u32) -> Query<'q> {
+        Query {
+            graph: self.g,
+            start: self.inst.starts[i],
+            goal: self.inst.goals[i],
+            start_time: 0,
+            h,
+            max_time,
+            window: None,
+            deadline: self.deadline,
+        }
     }
 }
 
@@ -531,50 +565,6 @@ fn heuristic<'d>(dist: &'d GoalDistances, i: usize) -> impl Fn(VertexId) -> u32 
         },
         None => dist.get(i, v),
     }
-}
-
-/// The space-time query of robot `i` from its start at time 0, arriving by `max_time`.
-fn robot_query<'a>(
-    g: &'a Graph,
-    inst: &Instance,
-    i: usize,
-    h: &'a dyn Fn(VertexId) -> u32,
-    max_time: u32,
-    deadline: Deadline,
-) -> Query<'a> {
-    Query {
-        graph: g,
-        start: inst.starts[i],
-        goal: inst.goals[i],
-        start_time: 0,
-        h,
-        max_time,
-        window: None,
-        deadline,
-    }
-}
-
-/// The earliest time robot `i` can arrive for good against `res`, if it is at most `max_time`
-/// (SIPP's answer; [`plan_robot`]'s path arrives then too). `Err` holds SIPP's failure.
-fn earliest_arrival(
-    g: &Graph,
-    inst: &Instance,
-    dist: &GoalDistances,
-    i: usize,
-    res: &Reservations,
-    max_time: u32,
-    deadline: Deadline,
-) -> Result<u32, Search> {
-    // No arrival before the distance to go or while the goal is still reserved: a query whose
-    // bound is below that needs no search.
-    let Some(goal_free) = res.free_for_good_from(inst.goals[i]) else {
-        return Err(Search::NotFound);
-    };
-    if dist.get(i, inst.starts[i]).max(goal_free) > max_time {
-        return Err(Search::NotFound);
-    }
-    let h = heuristic(dist, i);
-    sipp::earliest_arrival(&robot_query(g, inst, i, &h, max_time, deadline), res)
 }
 
 /// Every robot's goal distances, grown to its start before `deadline` (lazy tables: memory per
@@ -603,6 +593,12 @@ pub fn reservation_repair(
 ) -> Result<Vec<Vec<VertexId>>, Unsolved> {
     let n = inst.num_agents();
     let nv = g.num_vertices();
+    let robots = Robots {
+        g,
+        inst,
+        dist,
+        deadline,
+    };
     for i in 0..n {
         if dist.get(i, inst.starts[i]) == UNREACHABLE {
             return Err(Unsolved::GaveUp(format!(
@@ -635,7 +631,7 @@ pub fn reservation_repair(
         let mut failed = None;
         for &i in &order {
             let max_time = res.horizon() + nv as u32 + 1;
-            match plan_robot(g, inst, dist, i, &res, max_time, deadline) {
+            match robots.plan(i, &res, max_time) {
                 Search::Found(p) => {
                     res.reserve_path(&p, 0, true);
                     out[i] = p;
@@ -869,6 +865,12 @@ pub fn local_replanning(
 ) -> Result<(), Unsolved> {
     const PAIR_CANDIDATES: usize = 3;
     let n = inst.num_agents();
+    let robots = Robots {
+        g,
+        inst,
+        dist,
+        deadline,
+    };
     let ideal = |i: usize| dist.get(i, inst.starts[i]) as usize;
     let cost = |p: &[VertexId], i: usize| {
         mrpp_core::mapf::plan::path_cost(
@@ -904,7 +906,7 @@ pub fn local_replanning(
                 Some(&Err(b)) if bound <= b => return Err(Search::NotFound),
                 _ => {}
             }
-            let found = earliest_arrival(g, inst, dist, i, res, bound, deadline);
+            let found = robots.arrival(i, res, bound);
             match found {
                 Ok(a) => alone.borrow_mut().insert(key, Ok(a)),
                 Err(Search::NotFound) => alone.borrow_mut().insert(key, Err(bound)),
@@ -940,7 +942,7 @@ pub fn local_replanning(
             let arrival = if k == 0 {
                 arrival_alone(res, released, i, bound as u32)
             } else {
-                earliest_arrival(g, inst, dist, i, res, bound as u32, deadline)
+                robots.arrival(i, res, bound as u32)
             };
             if k + 1 == order.len() {
                 match arrival {
@@ -958,10 +960,7 @@ pub fn local_replanning(
                 break;
             }
             let found = match arrival {
-                Ok(arrival) => {
-                    let h = heuristic(dist, i);
-                    space_time_astar(&robot_query(g, inst, i, &h, arrival, deadline), res)
-                }
+                Ok(arrival) => robots.path(i, res, arrival),
                 Err(other) => other,
             };
             match found {
@@ -1004,9 +1003,7 @@ pub fn local_replanning(
             res.reserve_path(p, 0, true);
         }
         let last = order[order.len() - 1];
-        let h = heuristic(dist, last);
-        let q = robot_query(g, inst, last, &h, planned.last_arrival, deadline);
-        let found = space_time_astar(&q, res);
+        let found = robots.path(last, res, planned.last_arrival);
         for p in &planned.firsts {
             res.release_path(p, 0, true);
         }
