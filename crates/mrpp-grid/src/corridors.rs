@@ -15,17 +15,21 @@ pub type NodeId = u32;
 #[derive(Debug, Clone)]
 pub struct Corridors {
     node_of: Vec<NodeId>,
+    /// A cell's place in its node's chain ([`ONE_CELL`] when the node is that cell alone).
     index_in_node: Vec<u32>,
     cells: Vec<Vec<VertexId>>,
 }
+
+/// [`Corridors`]' `index_in_node` of a cell that is a node by itself.
+const ONE_CELL: u32 = u32::MAX;
 
 /// The tables of [`Corridors::route_length`], kept between calls: best cost per cell stamped
 /// with the call that set it, and the open list as buckets of equal `f` (a consistent bound
 /// makes `f` never decrease along the search, so the least bucket is found by a cursor).
 #[derive(Debug, Default)]
 pub struct RouteScratch {
-    cost: Vec<u32>,
-    stamp: Vec<u32>,
+    /// Per cell: `call << 32 | best cost`, where `call` is the call that set it.
+    best: Vec<u64>,
     call: u32,
     /// `buckets[f - f0]`: the `(g, cell)` entries of that `f`; `used` buckets are in use.
     buckets: Vec<Vec<(u32, VertexId)>>,
@@ -38,9 +42,8 @@ pub struct RouteScratch {
 
 impl RouteScratch {
     fn begin(&mut self, num_vertices: usize) {
-        if self.stamp.len() != num_vertices || self.call == u32::MAX {
-            self.cost = vec![0; num_vertices];
-            self.stamp = vec![0; num_vertices];
+        if self.best.len() != num_vertices || self.call == u32::MAX {
+            self.best = vec![0; num_vertices];
             self.call = 0;
         }
         self.call += 1;
@@ -83,13 +86,16 @@ impl RouteScratch {
     /// reached it too). A call that found no route without a limit reached every cell of the
     /// free region around its start that does not lie inside a corridor.
     pub fn reached_in(&self, v: VertexId, call: u32) -> bool {
-        self.stamp.get(v as usize) == Some(&call)
+        self.best
+            .get(v as usize)
+            .is_some_and(|&b| b >> 32 == u64::from(call))
     }
 
     #[inline]
     fn best(&self, v: VertexId) -> u32 {
-        if self.stamp[v as usize] == self.call {
-            self.cost[v as usize]
+        let b = self.best[v as usize];
+        if b >> 32 == u64::from(self.call) {
+            b as u32
         } else {
             u32::MAX
         }
@@ -97,8 +103,7 @@ impl RouteScratch {
 
     #[inline]
     fn improve(&mut self, v: VertexId, cost: u32) {
-        self.stamp[v as usize] = self.call;
-        self.cost[v as usize] = cost;
+        self.best[v as usize] = u64::from(self.call) << 32 | u64::from(cost);
     }
 }
 
@@ -157,7 +162,7 @@ impl Corridors {
         }
         for chain in &cells {
             for (i, &c) in chain.iter().enumerate() {
-                index_in_node[c as usize] = i as u32;
+                index_in_node[c as usize] = if chain.len() == 1 { ONE_CELL } else { i as u32 };
             }
         }
         Some(Corridors {
@@ -268,12 +273,13 @@ impl Corridors {
         goal: VertexId,
         avoid: VertexId,
     ) -> Option<(VertexId, u32)> {
-        let node = self.node_of(w);
-        let chain = &self.cells[node as usize];
-        if chain.len() == 1 || w == goal {
+        let i = self.index_in_node[w as usize];
+        if i == ONE_CELL || w == goal {
             return Some((w, 1));
         }
-        let i = self.index_in_node[w as usize] as usize;
+        let i = i as usize;
+        let node = self.node_of(w);
+        let chain = &self.cells[node as usize];
         // Direction: away from u (u is either outside the node or the previous cell of the chain).
         let forward = if self.node_of(u) == node {
             (self.index_in_node[u as usize] as usize) < i

@@ -4,7 +4,7 @@
 //! - [`spacetime`]: a reservation table and space-time A* over `(vertex, time)`, with an optional
 //!   window (CA*, HCA*, WHCA*, and H*'s repair step).
 //! - [`sipp`]: safe-interval path planning over the same table (the re-planning step of LaCAM*'s
-//!   large-neighbourhood refinement).
+//!   large-neighbourhood refinement), and its earliest arrival alone (H*'s local re-planning).
 
 pub mod distance;
 pub mod sipp;
