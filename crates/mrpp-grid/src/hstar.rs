@@ -959,6 +959,22 @@ pub fn local_replanning(
                 }
                 break;
             }
+            // What is known of the next robot alone against this table bounds it from below
+            // (this robot's path can only delay it): an order it proves too slow needs no path.
+            if let Ok(a) = arrival
+                && k == 0
+                && order.len() == 2
+            {
+                let rest = (left - a as usize) as u32;
+                let too_slow = match alone.borrow().get(&(released, order[1])) {
+                    Some(&Ok(b)) => b > rest,
+                    Some(&Err(b)) => rest <= b,
+                    None => false,
+                };
+                if too_slow {
+                    break;
+                }
+            }
             let found = match arrival {
                 Ok(arrival) => robots.path(i, res, arrival),
                 Err(other) => other,
