@@ -141,11 +141,13 @@ fn successors(
 }
 
 /// [`sipp`]'s arrival time alone: the earliest time, at most `q.max_time`, at which the agent can
-/// stand on `q.goal` for ever, or `Err` ([`Search::NotFound`], [`Search::TimedOut`]). The same
-/// number [`sipp`] finds (a property test checks), with less bookkeeping since no path is drawn:
+/// stand on `q.goal` for ever, or `Err` ([`Search::NotFound`], [`Search::TimedOut`]); a start on
+/// the goal that is free for ever answers `q.start_time` whatever `q.max_time`, as in [`sipp`].
+/// The same number [`sipp`] finds (a property test checks), with less bookkeeping since no path
+/// is drawn:
 ///
-/// - the open list is a bucket queue on `f = g + h` (integers up to `q.max_time`), ties in any
-///   order;
+/// - the open list is a bucket queue on `f = g + h`, as many buckets as the largest `f` queued,
+///   ties in any order;
 /// - with a consistent `q.h`, a vertex's states leave the queue in order of time, so a state is
 ///   dominated exactly when the vertex's latest expanded state lies in the same safe interval,
 ///   and one mark per vertex (its interval's end) replaces the table of states.
@@ -173,8 +175,9 @@ pub fn earliest_arrival(q: &Query, res: &Reservations) -> Result<u32, Search> {
 /// The per-thread tables of [`earliest_arrival`].
 #[derive(Default)]
 struct ArrivalScratch {
-    /// `buckets[f - f0]`: states `(v, t)` queued with that `f`.
+    /// `buckets[f - f0]`: states `(v, t)` queued with that `f`; the first `used` are in use.
     buckets: Vec<Vec<(VertexId, u32)>>,
+    used: usize,
     /// Per vertex: `stamp << 32 | end`, where `end` is the first reserved time after the
     /// vertex's latest expanded state (its safe interval is `.. end`).
     done: Vec<u64>,
@@ -195,35 +198,35 @@ impl ArrivalScratch {
         self.stamp += 1;
         let stamp = u64::from(self.stamp);
         let f0 = q.start_time + h0;
-        let span = (q.max_time - f0) as usize + 1;
-        if self.buckets.len() < span {
-            self.buckets.resize_with(span, Vec::new);
-        }
-        for b in &mut self.buckets[..span] {
+        // Buckets grow with the largest `f` queued, not with `q.max_time` (which may be huge);
+        // those of the last query are emptied.
+        for b in &mut self.buckets[..self.used] {
             b.clear();
         }
-        let buckets = &mut self.buckets[..span];
-        let done = &mut self.done;
         // Whether a state at `(v, t)` lies in the interval of `v`'s latest expanded state.
         let dominated = |done: &[u64], v: VertexId, t: u32| {
             let d = done[v as usize];
             d >> 32 == stamp && t < d as u32
         };
-        buckets[0].push((q.start, q.start_time));
+        if self.buckets.is_empty() {
+            self.buckets.push(Vec::new());
+        }
+        self.buckets[0].push((q.start, q.start_time));
+        self.used = 1;
         let mut expansions = 0u64;
         let mut f = 0;
-        while f < span {
-            let Some((v, t)) = buckets[f].pop() else {
+        while f < self.used {
+            let Some((v, t)) = self.buckets[f].pop() else {
                 f += 1;
                 continue;
             };
-            if dominated(done, v, t) {
+            if dominated(&self.done, v, t) {
                 continue;
             }
             if v == q.goal && res.free_from(v, t) {
                 return Ok(t);
             }
-            done[v as usize] = stamp << 32 | u64::from(res.next_reserved(v, t));
+            self.done[v as usize] = stamp << 32 | u64::from(res.next_reserved(v, t));
             expansions += 1;
             if expansions.is_multiple_of(1024) && q.deadline.expired() {
                 return Err(Search::TimedOut);
@@ -231,10 +234,15 @@ impl ArrivalScratch {
             if t >= q.max_time {
                 continue;
             }
+            let (buckets, used, done) = (&mut self.buckets, &mut self.used, &self.done);
             successors(q, res, v, t, |w, a, hw| {
                 if !dominated(done, w, a) {
                     // `a + hw >= f0 + f` for a consistent `h`; clamped for any other.
                     let k = ((a + hw).saturating_sub(f0) as usize).max(f);
+                    if k >= buckets.len() {
+                        buckets.resize_with(k + 1, Vec::new);
+                    }
+                    *used = (*used).max(k + 1);
                     buckets[k].push((w, a));
                 }
             });

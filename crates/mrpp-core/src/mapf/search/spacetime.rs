@@ -345,18 +345,19 @@ fn search(q: &Query, res: &Reservations, seen: &mut Seen) -> Search {
     let mut nodes: Vec<Node> = Vec::new();
     let end_time = q.window.map(|w| q.start_time + w);
     let f0 = h(q.start, q.start_time);
-    // Full mode: `f` and `g` lie in `f0 ..= max_time - start_time` and `0 ..= max_time -
-    // start_time`, so a bucket queue over that grid replaces the heap when it is small.
-    let span = q.max_time.saturating_sub(q.start_time);
-    let grid = match end_time {
-        None if span >= f0 => Some(((span - f0) as usize + 1, span as usize + 1)),
-        _ => None,
-    };
+    // Full mode: `f` and `g` lie in `0 ..= max_time - start_time` (the pruning by `max_time`
+    // keeps `f` there, whatever the heuristic), so a bucket queue over that grid replaces the
+    // heap when it is small.
+    let span = u64::from(q.max_time.saturating_sub(q.start_time)) + 1;
     let mut heap = None;
-    let mut open = match grid {
-        Some((levels, depths)) if levels * depths <= BUCKET_CELLS => {
+    let mut open = match end_time {
+        None if u64::from(f0) < span
+            && span
+                .checked_mul(span)
+                .is_some_and(|n| n <= BUCKET_CELLS as u64) =>
+        {
             let mut b = BUCKETS.take();
-            b.begin(f0, levels, depths);
+            b.begin(span as usize);
             Open::Buckets(b)
         }
         _ => Open::Heap(heap.insert(BinaryHeap::new()), 0),
@@ -478,42 +479,42 @@ impl Open<'_> {
     }
 }
 
-/// A bucket queue over `f` in `f0 .. f0 + levels` and `g` in `0 .. depths`: per cell a FIFO of
-/// node indices (a vector and its read position). Within a level the highest `g` with entries
-/// leaves first; `top[l]` bounds it from above.
+/// A bucket queue over `f` and `g`, both in `0 .. size`: per cell a FIFO of node indices (a
+/// vector and its read position). Within a level of `f` the highest `g` with entries leaves
+/// first; `top[f]` bounds it from above. `level` is the least `f` that may hold entries (a
+/// heuristic that is not consistent may queue below the level being emptied).
 #[derive(Default)]
 struct Buckets {
     cells: Vec<Vec<u32>>,
     heads: Vec<u32>,
     top: Vec<i64>,
     touched: Vec<u32>,
-    f0: u32,
-    depths: usize,
+    size: usize,
     level: usize,
 }
 
 impl Buckets {
-    fn begin(&mut self, f0: u32, levels: usize, depths: usize) {
+    fn begin(&mut self, size: usize) {
         for &c in &self.touched {
             self.cells[c as usize].clear();
             self.heads[c as usize] = 0;
         }
         self.touched.clear();
-        let n = levels * depths;
+        let n = size * size;
         if self.cells.len() < n {
             self.cells.resize_with(n, Vec::new);
             self.heads.resize(n, 0);
         }
         self.top.clear();
-        self.top.resize(levels, -1);
-        (self.f0, self.depths, self.level) = (f0, depths, 0);
+        self.top.resize(size, -1);
+        (self.size, self.level) = (size, 0);
     }
 
     #[inline]
     fn push(&mut self, f: u32, g: u32, idx: u32) {
-        // A heuristic that is not consistent may queue below the current level.
-        let l = (f.saturating_sub(self.f0) as usize).min(self.top.len() - 1);
-        let c = l * self.depths + g as usize;
+        debug_assert!((f as usize) < self.size && (g as usize) < self.size);
+        let l = f as usize;
+        let c = l * self.size + g as usize;
         if self.cells[c].is_empty() {
             self.touched.push(c as u32);
         }
@@ -527,7 +528,7 @@ impl Buckets {
         while self.level < self.top.len() {
             let l = self.level;
             while self.top[l] >= 0 {
-                let c = l * self.depths + self.top[l] as usize;
+                let c = l * self.size + self.top[l] as usize;
                 let head = self.heads[c] as usize;
                 if let Some(&idx) = self.cells[c].get(head) {
                     self.heads[c] += 1;
@@ -614,6 +615,21 @@ mod tests {
         let q = query(&g, 0, 2, &h, 50);
         assert_eq!(space_time_astar(&q, &res), Search::NotFound);
         assert_eq!(sipp(&q, &res), Search::NotFound);
+    }
+
+    /// A bound of `u32::MAX` (CA*/HCA* with an unbounded slack) takes the heap, and SIPP's
+    /// arrival search allocates buckets only for the `f` it queues.
+    #[test]
+    fn the_largest_time_bound_is_answered() {
+        let g = Graph::from_edges(3, &[(0, 1), (1, 2)]);
+        let res = Reservations::new(3);
+        let d = |v: VertexId| 2 - v;
+        let q = query(&g, 2, 2, &d, u32::MAX);
+        assert_eq!(space_time_astar(&q, &res), Search::Found(vec![2]));
+        assert_eq!(crate::mapf::search::sipp::earliest_arrival(&q, &res), Ok(0));
+        let q = query(&g, 0, 2, &d, u32::MAX);
+        assert_eq!(space_time_astar(&q, &res), Search::Found(vec![0, 1, 2]));
+        assert_eq!(crate::mapf::search::sipp::earliest_arrival(&q, &res), Ok(2));
     }
 
     #[test]
