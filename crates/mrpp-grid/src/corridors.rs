@@ -7,6 +7,7 @@
 //! straight to its other end (or to the goal inside it) in one weighted step.
 
 use mrpp_core::mapf::graph::{Graph, VertexId};
+use mrpp_core::mapf::search::buckets::BucketQueue;
 
 /// Node id in the compressed graph.
 pub type NodeId = u32;
@@ -31,9 +32,8 @@ pub struct RouteScratch {
     /// Per cell: `call << 32 | best cost`, where `call` is the call that set it.
     best: Vec<u64>,
     call: u32,
-    /// `buckets[f - f0]`: the `(g, cell)` entries of that `f`; `used` buckets are in use.
-    buckets: Vec<Vec<(u32, VertexId)>>,
-    used: usize,
+    /// The `(g, cell)` entries keyed by `f - f0`.
+    open: BucketQueue<(u32, VertexId)>,
     /// The blocked nodes the searches met (entered from a free neighbour, or the goal's node),
     /// appended by every call and cleared only by the caller: with the robot's own cell, they
     /// are the walls that kept a failed search from the goal.
@@ -47,33 +47,7 @@ impl RouteScratch {
             self.call = 0;
         }
         self.call += 1;
-        for b in &mut self.buckets[..self.used] {
-            b.clear();
-        }
-        self.used = 0;
-    }
-
-    /// Queues `(g, v)` at `f` (`f >= f0`).
-    #[inline]
-    fn push(&mut self, f0: u32, f: u32, g: u32, v: VertexId) {
-        let k = (f - f0) as usize;
-        if k >= self.buckets.len() {
-            self.buckets.resize_with(k + 1, Vec::new);
-        }
-        self.used = self.used.max(k + 1);
-        self.buckets[k].push((g, v));
-    }
-
-    /// The next entry of least `f`, from bucket `cursor` on (which it advances).
-    #[inline]
-    fn pop(&mut self, cursor: &mut usize) -> Option<(u32, VertexId)> {
-        while *cursor < self.used {
-            if let Some(e) = self.buckets[*cursor].pop() {
-                return Some(e);
-            }
-            *cursor += 1;
-        }
-        None
+        self.open.clear();
     }
 
     /// The id of the latest call (each call of [`Corridors::route_length`] that searches takes a
@@ -225,9 +199,8 @@ impl Corridors {
         }
         scratch.begin(g.num_vertices());
         scratch.improve(from, 0);
-        scratch.push(h0, h0, 0, from);
-        let mut cursor = 0;
-        while let Some((gu, u)) = scratch.pop(&mut cursor) {
+        scratch.open.push(0, (0, from));
+        while let Some((_, (gu, u))) = scratch.open.pop() {
             if u == goal {
                 return Some(gu);
             }
@@ -257,7 +230,9 @@ impl Corridors {
                     continue;
                 }
                 scratch.improve(x, gx);
-                scratch.push(h0, gx + hx, gx, x);
+                scratch
+                    .open
+                    .push((gx + hx).saturating_sub(h0) as usize, (gx, x));
             }
         }
         None

@@ -897,15 +897,21 @@ pub fn local_replanning(
     // both orders of a pair ask the same questions; emptied whenever a path changes.
     type Alone = rustc_hash::FxHashMap<([usize; 2], usize), Result<u32, u32>>;
     let alone: std::cell::RefCell<Alone> = Default::default();
+    // What the memo answers for robot `i` by `bound`, if it knows.
+    let remembered = |released: [usize; 2], i: usize, bound: u32| -> Option<Result<u32, Search>> {
+        match *alone.borrow().get(&(released, i))? {
+            Ok(a) if a <= bound => Some(Ok(a)),
+            Ok(_) => Some(Err(Search::NotFound)),
+            Err(b) if bound <= b => Some(Err(Search::NotFound)),
+            Err(_) => None,
+        }
+    };
     let arrival_alone =
         |res: &Reservations, released: [usize; 2], i: usize, bound: u32| -> Result<u32, Search> {
-            let key = (released, i);
-            match alone.borrow().get(&key) {
-                Some(&Ok(a)) if a <= bound => return Ok(a),
-                Some(&Ok(_)) => return Err(Search::NotFound),
-                Some(&Err(b)) if bound <= b => return Err(Search::NotFound),
-                _ => {}
+            if let Some(known) = remembered(released, i, bound) {
+                return known;
             }
+            let key = (released, i);
             let found = robots.arrival(i, res, bound);
             match found {
                 Ok(a) => alone.borrow_mut().insert(key, Ok(a)),
@@ -929,6 +935,8 @@ pub fn local_replanning(
         let mut firsts: Vec<Vec<VertexId>> = Vec::with_capacity(order.len() - 1);
         let mut left = budget;
         let mut outcome = Ok(None);
+        // The last robot's arrival, once every robot is planned.
+        let mut last = None;
         let released = [
             order[0].min(order[order.len() - 1]),
             order[0].max(order[order.len() - 1]),
@@ -946,14 +954,7 @@ pub fn local_replanning(
             };
             if k + 1 == order.len() {
                 match arrival {
-                    Ok(arrival) => {
-                        let total = budget - left + arrival as usize;
-                        outcome = Ok(Some(Planned {
-                            firsts: std::mem::take(&mut firsts),
-                            last_arrival: arrival,
-                            total,
-                        }));
-                    }
+                    Ok(arrival) => last = Some(arrival),
                     Err(Search::TimedOut) => outcome = Err(Unsolved::TimeLimit),
                     Err(_) => {}
                 }
@@ -966,12 +967,7 @@ pub fn local_replanning(
                 && order.len() == 2
             {
                 let rest = (left - a as usize) as u32;
-                let too_slow = match alone.borrow().get(&(released, order[1])) {
-                    Some(&Ok(b)) => b > rest,
-                    Some(&Err(b)) => rest <= b,
-                    None => false,
-                };
-                if too_slow {
+                if let Some(Err(_)) = remembered(released, order[1], rest) {
                     break;
                 }
             }
@@ -995,15 +991,17 @@ pub fn local_replanning(
         for p in &firsts {
             res.release_path(p, 0, true);
         }
-        if let Ok(Some(planned)) = &outcome {
-            for p in &planned.firsts {
-                res.release_path(p, 0, true);
-            }
-        }
         for &i in order {
             res.reserve_path(&paths[i], 0, true);
         }
-        outcome
+        match (outcome, last) {
+            (Ok(None), Some(last_arrival)) => Ok(Some(Planned {
+                total: budget - left + last_arrival as usize,
+                firsts,
+                last_arrival,
+            })),
+            (outcome, _) => outcome,
+        }
     };
     // The paths of an order `replan` kept, the last robot's drawn now: space-time A* against the
     // table `replan` planned it against, bounded by the arrival SIPP found there.

@@ -24,6 +24,7 @@ use std::collections::BinaryHeap;
 use rustc_hash::FxHashMap;
 
 use crate::mapf::graph::VertexId;
+use crate::mapf::search::buckets::BucketQueue;
 use crate::mapf::search::spacetime::{Query, Reservations, Search};
 
 /// Earliest-arrival path from `q.start` at `q.start_time` to `q.goal`, arriving at a time from
@@ -175,9 +176,8 @@ pub fn earliest_arrival(q: &Query, res: &Reservations) -> Result<u32, Search> {
 /// The per-thread tables of [`earliest_arrival`].
 #[derive(Default)]
 struct ArrivalScratch {
-    /// `buckets[f - f0]`: states `(v, t)` queued with that `f`; the first `used` are in use.
-    buckets: Vec<Vec<(VertexId, u32)>>,
-    used: usize,
+    /// States `(v, t)` keyed by `f - f0`.
+    open: BucketQueue<(VertexId, u32)>,
     /// Per vertex: `stamp << 32 | end`, where `end` is the first reserved time after the
     /// vertex's latest expanded state (its safe interval is `.. end`).
     done: Vec<u64>,
@@ -198,28 +198,16 @@ impl ArrivalScratch {
         self.stamp += 1;
         let stamp = u64::from(self.stamp);
         let f0 = q.start_time + h0;
-        // Buckets grow with the largest `f` queued, not with `q.max_time` (which may be huge);
-        // those of the last query are emptied.
-        for b in &mut self.buckets[..self.used] {
-            b.clear();
-        }
         // Whether a state at `(v, t)` lies in the interval of `v`'s latest expanded state.
         let dominated = |done: &[u64], v: VertexId, t: u32| {
             let d = done[v as usize];
             d >> 32 == stamp && t < d as u32
         };
-        if self.buckets.is_empty() {
-            self.buckets.push(Vec::new());
-        }
-        self.buckets[0].push((q.start, q.start_time));
-        self.used = 1;
+        let open = &mut self.open;
+        open.clear();
+        open.push(0, (q.start, q.start_time));
         let mut expansions = 0u64;
-        let mut f = 0;
-        while f < self.used {
-            let Some((v, t)) = self.buckets[f].pop() else {
-                f += 1;
-                continue;
-            };
+        while let Some((_, (v, t))) = open.pop() {
             if dominated(&self.done, v, t) {
                 continue;
             }
@@ -234,16 +222,10 @@ impl ArrivalScratch {
             if t >= q.max_time {
                 continue;
             }
-            let (buckets, used, done) = (&mut self.buckets, &mut self.used, &self.done);
+            let done = &self.done;
             successors(q, res, v, t, |w, a, hw| {
                 if !dominated(done, w, a) {
-                    // `a + hw >= f0 + f` for a consistent `h`; clamped for any other.
-                    let k = ((a + hw).saturating_sub(f0) as usize).max(f);
-                    if k >= buckets.len() {
-                        buckets.resize_with(k + 1, Vec::new);
-                    }
-                    *used = (*used).max(k + 1);
-                    buckets[k].push((w, a));
+                    open.push((a + hw).saturating_sub(f0) as usize, (w, a));
                 }
             });
         }

@@ -349,7 +349,6 @@ fn search(q: &Query, res: &Reservations, seen: &mut Seen) -> Search {
     // keeps `f` there, whatever the heuristic), so a bucket queue over that grid replaces the
     // heap when it is small.
     let span = u64::from(q.max_time.saturating_sub(q.start_time)) + 1;
-    let mut heap = None;
     let mut open = match end_time {
         None if u64::from(f0) < span
             && span
@@ -360,7 +359,7 @@ fn search(q: &Query, res: &Reservations, seen: &mut Seen) -> Search {
             b.begin(span as usize);
             Open::Buckets(b)
         }
-        _ => Open::Heap(heap.insert(BinaryHeap::new()), 0),
+        _ => Open::Heap(BinaryHeap::new(), 0),
     };
     nodes.push(Node {
         v: q.start,
@@ -444,19 +443,19 @@ thread_local! {
 
 /// The open list of [`space_time_astar`]: entries leave in order of lower `f`, then higher `g`,
 /// then insertion (each entry is a node index; a terminal flag for windowed mode).
-enum Open<'h> {
-    /// `(f, g, insertion order, node index, terminal)`, a max-heap on lower `f`, then higher `g`.
-    /// The heap, and the number of entries pushed so far.
+enum Open {
+    /// A max-heap of `(f, g, insertion order, node index, terminal)` on lower `f`, then higher
+    /// `g`, and the number of entries pushed so far.
     #[allow(clippy::type_complexity)]
     Heap(
-        &'h mut BinaryHeap<(Reverse<u32>, u32, Reverse<u32>, u32, bool)>,
+        BinaryHeap<(Reverse<u32>, u32, Reverse<u32>, u32, bool)>,
         u32,
     ),
     /// Full mode, when the `(f, g)` grid is small: one FIFO per cell, in the same order.
     Buckets(Buckets),
 }
 
-impl Open<'_> {
+impl Open {
     #[inline]
     fn push(&mut self, f: u32, g: u32, idx: u32, terminal: bool) {
         match self {
