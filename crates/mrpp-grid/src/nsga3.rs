@@ -39,8 +39,10 @@
 //!    conflicts plus swap conflicts under `stay` semantics, a robot that has arrived keeps its goal),
 //!    f2 = sum of arrival times (waits included, the paper's "Sum"); optionally f3 = makespan
 //!    ("Max"). f1 and f2 are "the number of collisions and the path length" of §V-D.
-//!    [`count_conflicts`] runs in O(n·T) with a time-stamped occupancy array instead of the
-//!    O(n²·T) pairwise test.
+//!    The count is defined stepwise ([`count_conflicts_stepwise`], O(n·T) with a time-stamped
+//!    occupancy array); [`count_conflicts`] reads the same number from a table of robot-pair
+//!    conflicts per route pair and start-delay difference, filled as genomes need it (module
+//!    `pair_table`), which makes an evaluation a few hundred table reads.
 //! 4. Operators **[R]**: uniform crossover with probability 0.9 and per-gene
 //!    reset mutation with rate `1/n`, where robot `i`'s gene is its (route, delay) pair: the pair
 //!    comes whole from either parent, and a reset redraws both uniformly. A route and the delay that
@@ -87,6 +89,9 @@ use mrpp_core::mapf::plan::Plan;
 use mrpp_core::mapf::search::distance::{descend_weighted, dijkstra_distances_until};
 use mrpp_core::{MapfProblem, Param, PlannerEntry};
 use mrpp_evo::nsga3::{Individual, Nsga3, Problem};
+
+mod pair_table;
+use pair_table::PairTable;
 
 /// Registry name of the NSGA-III route selection.
 pub const NAME: &str = "nsga3";
@@ -419,6 +424,8 @@ pub struct RouteSelection<'a> {
     pub crossover_probability: f64,
     pub mutation_rate: f64,
     scratch: RefCell<Occupancy>,
+    /// Remembered pair conflicts for [`count_conflicts`] (`None`: it counts stepwise).
+    pairs: Option<RefCell<PairTable>>,
     /// Objectives of genomes evaluated before: offspring often repeat a genome once the
     /// population has converged, and an evaluation is a pure function of the genome.
     memo: RefCell<FxHashMap<Vec<Choice>, Vec<f64>>>,
@@ -461,6 +468,7 @@ impl<'a> RouteSelection<'a> {
             crossover_probability: planner.crossover_probability,
             mutation_rate: planner.mutation_rate.unwrap_or(1.0 / n as f64),
             scratch: RefCell::new(Occupancy::default()),
+            pairs: PairTable::new(routes, planner.max_delay).map(RefCell::new),
             memo: RefCell::new(FxHashMap::default()),
         }
     }
@@ -506,13 +514,31 @@ impl<'a> RouteSelection<'a> {
     }
 }
 
-/// Step 3, f1: conflicts of the joint plan a genome encodes, in O(n·T). Each step adds, per robot,
-/// the robots already standing on its vertex (so `k` robots on one vertex count `k(k-1)/2`), and
-/// each swap once. Swaps are detected through the first robot recorded on a vertex at `t - 1`, so
-/// they are exact whenever `t - 1` has no vertex conflict; the count is zero exactly when the plan
-/// has no vertex and no swap conflict (a swap next to a vertex conflict may go uncounted, but that
-/// vertex conflict is counted).
+/// Step 3, f1: conflicts of the joint plan a genome encodes, as [`count_conflicts_stepwise`]
+/// defines them. It is read from the selection's table of remembered robot-pair conflicts when
+/// the instance allows one (see the `pair_table` module), else counted stepwise; the two agree on
+/// every genome.
 pub fn count_conflicts(sel: &RouteSelection, genome: &[Choice]) -> u64 {
+    match sel
+        .pairs
+        .as_ref()
+        .and_then(|t| t.borrow_mut().count(sel.routes, genome))
+    {
+        Some(c) => {
+            debug_assert_eq!(c, count_conflicts_stepwise(sel, genome), "{genome:?}");
+            c
+        }
+        None => count_conflicts_stepwise(sel, genome),
+    }
+}
+
+/// f1 counted step by step, in O(n·T). Each step adds, per robot, the robots already standing on
+/// its vertex (so `k` robots on one vertex count `k(k-1)/2`), and each swap once. Swaps are
+/// detected through the first robot recorded on a vertex at `t - 1`, so they are exact whenever
+/// `t - 1` has no vertex conflict; the count is zero exactly when the plan has no vertex and no
+/// swap conflict (a swap next to a vertex conflict may go uncounted, but that vertex conflict is
+/// counted).
+pub fn count_conflicts_stepwise(sel: &RouteSelection, genome: &[Choice]) -> u64 {
     // Each robot's route and delay, looked up once: where robot i stands at t.
     // (route, delay, arrival): before `delay` the robot is on the route's first vertex, from
     // `arrival` on on its last.
@@ -825,6 +851,73 @@ mod tests {
         let sel = RouteSelection::new(&routes, 5, &p);
         assert_eq!(count_conflicts(&sel, &at(&[2, 0])), 1);
         assert_eq!(sel.sum_and_makespan(&at(&[2, 0])), (6 + 2, 6));
+    }
+
+    #[test]
+    fn pair_table_leaves_out_the_swaps_the_stepwise_count_leaves_out() {
+        // Robot 0 swaps with robot 2 between t = 1 and t = 2 while robot 1 stands on robot 2's
+        // vertex at t = 1: the stepwise count finds robot 1 first on that vertex and counts only
+        // the vertex conflict.
+        let routes = vec![
+            vec![vec![4, 3, 2, 10]],
+            vec![vec![5, 2, 12]],
+            vec![vec![1, 2, 3, 11]],
+        ];
+        let sel = RouteSelection::new(&routes, 13, &Nsga3Planner::default());
+        assert!(sel.pairs.is_some());
+        let genome = vec![Choice { route: 0, delay: 0 }; 3];
+        assert_eq!(count_conflicts_stepwise(&sel, &genome), 1);
+        assert_eq!(count_conflicts(&sel, &genome), 1);
+        // Without robot 1 the swap counts.
+        let two = vec![routes[0].clone(), routes[2].clone()];
+        let sel = RouteSelection::new(&two, 13, &Nsga3Planner::default());
+        assert_eq!(count_conflicts(&sel, &genome[..2]), 1);
+    }
+
+    #[test]
+    fn pair_table_counts_like_the_stepwise_count() {
+        let dir = data().join("scenario2");
+        let m = GridMap::load(&dir.join("scenery_4rooms_B.txt")).unwrap();
+        let inst = crate::scen::load_agents(&dir.join("6robots-per-room.txt"), &m, None).unwrap();
+        let g = m.graph();
+        let p = Nsga3Planner::default();
+        let mut rng = ChaCha8Rng::seed_from_u64(5);
+        let mut goal_cells = vec![false; g.num_vertices()];
+        for &v in &inst.goals {
+            goal_cells[v as usize] = true;
+        }
+        let routes: Vec<_> = (0..inst.num_agents())
+            .map(|i| {
+                let (s, t) = (inst.starts[i], inst.goals[i]);
+                pregenerate_routes(g, s, t, &goal_cells, &p, &mut rng, Deadline::none())
+                    .unwrap()
+                    .unwrap()
+            })
+            .collect();
+        let (mut counted, mut fewest, mut most) = (0, u64::MAX, 0);
+        for k in 0..3000 {
+            // All 24 robots, or a random few of them (so that conflict-free genomes occur too).
+            let keep: Vec<usize> = (0..inst.num_agents())
+                .filter(|_| k % 2 == 0 || rng.random::<f64>() < 0.2)
+                .collect();
+            let sub_routes: Vec<_> = keep.iter().map(|&i| routes[i].clone()).collect();
+            let sel = RouteSelection::new(&sub_routes, g.num_vertices(), &p);
+            let Some(table) = sel.pairs.as_ref() else {
+                continue;
+            };
+            let genome = sel.random_genome(&mut rng);
+            let stepwise = count_conflicts_stepwise(&sel, &genome);
+            if let Some(c) = table.borrow_mut().count(sel.routes, &genome) {
+                assert_eq!(c, stepwise, "robots {keep:?}, genome {genome:?}");
+                counted += 1;
+                fewest = fewest.min(c);
+                most = most.max(c);
+            }
+        }
+        assert!(
+            counted > 2500 && fewest == 0 && most > 20,
+            "{counted} counted, {fewest} to {most} conflicts"
+        );
     }
 
     #[test]
