@@ -17,42 +17,55 @@
 //! robot waiting on its start or standing on its goal), and every reversed edge a swap at one. The
 //! step-by-step walk [`pair_conflicts`] is the reference it is tested against.
 //!
-//! The corner: when some robot `b` has both a swap with a lower robot and a vertex conflict with a
-//! lower robot, the pair sum might count a swap the stepwise count leaves out, so the evaluation
-//! falls back to the stepwise count. Both counts are zero for exactly the same genomes; the test
-//! `pair_table_counts_like_the_stepwise_count` checks they are equal everywhere.
+//! The corner: when some robot `b` has both a swap with a lower robot `a` and a vertex conflict
+//! with a lower robot, the pair sum may count a swap the stepwise count leaves out. Each entry
+//! keeps the step of its pair's first swap, so such a swap is checked directly (is a lower robot
+//! on `b`'s vertex the step before?) and taken out (a pair that swaps more than once is walked
+//! from its first swap on). The tests
+//! `pair_table_counts_like_the_stepwise_count` and
+//! `pair_table_leaves_out_the_swaps_the_stepwise_count_leaves_out` compare the two counts, and
+//! debug builds compare them on every evaluation.
 //!
-//! The table is used only when it pays and fits: starts pairwise distinct, goals pairwise
-//! distinct, at most [`MAX_ENTRIES`] entries, and every pair's counts below 2^15.
+//! The table is used only where the pair sum is exact and the counts fit: starts pairwise
+//! distinct, goals pairwise distinct, every pair's counts below 2^15, `max_delay` below 2048. A
+//! route pair's row keeps only the delay differences from its first to its last with a conflict,
+//! and rows are allocated as route pairs are first met, up to [`MAX_ENTRIES`] entries (32 MB);
+//! after that, genomes that need a new row are counted stepwise. Instances with more than
+//! [`MAX_ROUTE_PAIRS`] route pairs of robots whose routes meet are counted stepwise throughout.
 
 use mrpp_core::mapf::graph::VertexId;
 
 use super::Choice;
 
-/// Largest table (entries of 8 bytes) a route selection builds; bigger instances count stepwise.
+/// Most entries (8 bytes each) a table fills.
 pub const MAX_ENTRIES: usize = 1 << 22;
 
-/// [`PairTable::state`] of a route pair: entries not filled yet.
-const UNKNOWN: u8 = 0;
-/// The route pair's entries are filled.
-const FILLED: u8 = 1;
-/// The routes share no vertex: no conflict at any delay difference, no entries read.
-const APART: u8 = 2;
+/// Most route pairs (8 bytes each) a table indexes.
+pub const MAX_ROUTE_PAIRS: usize = 1 << 24;
+
+/// [`PairTable::rows`] of a route pair: entries not filled yet.
+const UNKNOWN: u64 = 0;
+/// The routes never conflict, whatever the delays: no entries read.
+const APART: u64 = 1;
+/// Offsets of rows in [`PairTable::rows`] count from here.
+const FIRST_OFFSET: u64 = 2;
 
 /// Remembered pair conflicts of one route selection.
 pub struct PairTable {
     /// Pairs `(i, j)`, `i < j`, whose candidate routes share a vertex; the others never conflict.
     blocks: Vec<Block>,
-    /// Per (block, route of i, route of j): [`UNKNOWN`], [`FILLED`] or [`APART`].
-    state: Vec<u8>,
-    /// Per (block, route of i, route of j, delay difference `d_i - d_j + max_delay`): `vertex
+    /// Per (block, route of i, route of j): [`UNKNOWN`], [`APART`], or its row as
+    /// `(FIRST_OFFSET + offset) << 24 | len << 12 | lo`: the entries of delay differences
+    /// `lo..lo + len` start at `entries[offset]`, the others are zero.
+    rows: Vec<u64>,
+    /// A route pair's row for all delay differences, before it is trimmed.
+    row: Vec<u64>,
+    /// Rows of entries, one per delay difference `d_i - d_j + max_delay`: `vertex
     /// conflicts << 32 | swaps << 16 | step of the first swap`, the step counted from the earlier of
     /// the two start delays (0 when there is no swap).
     entries: Vec<u64>,
     /// Per robot and route: its `(vertex, index)` pairs, sorted.
     indexed: Vec<Vec<Vec<(VertexId, u32)>>>,
-    /// Number of delay differences, `2 · max_delay + 1`.
-    span: usize,
     max_delay: u32,
     /// Per robot, for one evaluation: bit 0 = a vertex conflict with a lower robot, bit 1 = a swap
     /// with a lower robot.
@@ -64,7 +77,7 @@ pub struct PairTable {
 }
 
 #[derive(Clone, Copy)]
-/// One interacting pair's block of [`PairTable::state`] (and, times the span, of the entries).
+/// One interacting pair's block of [`PairTable::rows`].
 struct Block {
     i: u32,
     j: u32,
@@ -101,7 +114,7 @@ impl PairTable {
         distinct(|r| r[0])?;
         distinct(|r| r[r.len() - 1])?;
         let longest = routes.iter().flatten().map(Vec::len).max()?;
-        if longest + max_delay as usize >= 1 << 15 {
+        if longest + max_delay as usize >= 1 << 15 || max_delay >= 2048 {
             return None;
         }
         let indexed: Vec<Vec<Vec<(VertexId, u32)>>> = routes
@@ -126,7 +139,6 @@ impl PairTable {
                 c
             })
             .collect();
-        let span = 2 * max_delay as usize + 1;
         let mut blocks = Vec::new();
         let mut pairs = 0usize;
         for i in 0..n {
@@ -141,17 +153,17 @@ impl PairTable {
                     first: pairs,
                 });
                 pairs += routes[i].len() * routes[j].len();
-                if pairs * span > MAX_ENTRIES {
+                if pairs > MAX_ROUTE_PAIRS {
                     return None;
                 }
             }
         }
         Some(PairTable {
             blocks,
-            state: vec![UNKNOWN; pairs],
-            entries: vec![0; pairs * span],
+            rows: vec![UNKNOWN; pairs],
+            row: vec![0; 2 * max_delay as usize + 1],
+            entries: Vec::new(),
             indexed,
-            span,
             max_delay,
             marks: vec![0; n],
             touching: Vec::new(),
@@ -160,8 +172,8 @@ impl PairTable {
     }
 
     /// f1 of `genome` (robot `i` takes `routes[i][genome[i].route]` after `genome[i].delay`
-    /// waits), or `None` for the caller to count stepwise: a delay above `max_delay`, or a robot
-    /// that swaps twice with one lower robot and also meets a lower robot on a vertex.
+    /// waits), or `None` for the caller to count stepwise: a delay above `max_delay`, or a full
+    /// table.
     pub fn count(&mut self, routes: &[Vec<Vec<VertexId>>], genome: &[Choice]) -> Option<u64> {
         if genome.len() != self.marks.len() || genome.iter().any(|c| c.delay > self.max_delay) {
             return None;
@@ -174,17 +186,18 @@ impl PairTable {
             let b = self.blocks[n];
             let (ci, cj) = (genome[b.i as usize], genome[b.j as usize]);
             let pair = b.first + (ci.route * b.routes_j + cj.route) as usize;
-            match self.state[pair] {
-                APART => continue,
-                FILLED => {}
-                _ => {
-                    if !self.fill(routes, n, ci.route, cj.route) {
-                        continue;
-                    }
-                }
+            let row = match self.rows[pair] {
+                UNKNOWN => self.fill(routes, n, ci.route, cj.route)?,
+                row => row,
+            };
+            if row == APART {
+                continue;
             }
-            let e =
-                self.entries[pair * self.span + (ci.delay + self.max_delay - cj.delay) as usize];
+            let k = u64::from(ci.delay + self.max_delay - cj.delay).wrapping_sub(row & 0xfff);
+            if k >= (row >> 12) & 0xfff {
+                continue;
+            }
+            let e = self.entries[((row >> 24) - FIRST_OFFSET + k) as usize];
             if e == 0 {
                 continue;
             }
@@ -206,20 +219,32 @@ impl PairTable {
             let c = genome[r as usize];
             at(&routes[r as usize][c.route as usize], c.delay as usize, t)
         };
-        for &(_, b, s, t) in &self.swapping {
+        let uncounted = |b: u32, t: usize| {
+            let p = pos(b, t - 1);
+            self.touching
+                .iter()
+                .any(|&(k, kb)| kb == b && pos(k, t - 1) == p)
+        };
+        for &(a, b, s, first) in &self.swapping {
             if self.marks[b as usize] != 3 {
                 continue;
             }
-            if s > 1 {
-                return None;
+            if s == 1 {
+                total -= u64::from(uncounted(b, first));
+                continue;
             }
-            let p = pos(b, t - 1);
-            if self
-                .touching
-                .iter()
-                .any(|&(k, kb)| kb == b && pos(k, t - 1) == p)
-            {
-                total -= 1;
+            let (ca, cb) = (genome[a as usize], genome[b as usize]);
+            let (ra, rb) = (
+                &routes[a as usize][ca.route as usize],
+                &routes[b as usize][cb.route as usize],
+            );
+            let (da, db) = (ca.delay as usize, cb.delay as usize);
+            let end = (da + ra.len()).max(db + rb.len());
+            for t in first..end {
+                let (pa, qa) = (at(ra, da, t - 1), at(ra, da, t));
+                if pa != qa && qa == at(rb, db, t - 1) && at(rb, db, t) == pa {
+                    total -= u64::from(uncounted(b, t));
+                }
             }
         }
         Some(total)
@@ -227,10 +252,11 @@ impl PairTable {
 }
 
 impl PairTable {
-    /// Fills the entries of block `n`'s route pair `(ri, rj)` and returns whether the routes meet.
+    /// Fills the entries of block `n`'s route pair `(ri, rj)` and returns its [`PairTable::rows`]
+    /// value, or `None` when the table is full.
     #[cold]
     #[inline(never)]
-    fn fill(&mut self, routes: &[Vec<Vec<VertexId>>], n: usize, ri: u32, rj: u32) -> bool {
+    fn fill(&mut self, routes: &[Vec<Vec<VertexId>>], n: usize, ri: u32, rj: u32) -> Option<u64> {
         let b = &self.blocks[n];
         let (i, j, ri, rj) = (b.i as usize, b.j as usize, ri as usize, rj as usize);
         let pair = b.first + ri * b.routes_j as usize + rj;
@@ -238,10 +264,23 @@ impl PairTable {
             (&routes[i][ri], &self.indexed[i][ri]),
             (&routes[j][rj], &self.indexed[j][rj]),
             self.max_delay,
-            &mut self.entries[pair * self.span..(pair + 1) * self.span],
+            &mut self.row,
         );
-        self.state[pair] = if met { FILLED } else { APART };
-        met
+        let lo = self.row.iter().position(|&e| e != 0).filter(|_| met);
+        let row = match lo {
+            None => APART,
+            Some(lo) => {
+                let hi = self.row.iter().rposition(|&e| e != 0).expect("a conflict");
+                let offset = self.entries.len();
+                if offset + hi + 1 - lo > MAX_ENTRIES {
+                    return None;
+                }
+                self.entries.extend_from_slice(&self.row[lo..=hi]);
+                (FIRST_OFFSET + offset as u64) << 24 | ((hi + 1 - lo) as u64) << 12 | lo as u64
+            }
+        };
+        self.rows[pair] = row;
+        Some(row)
     }
 }
 
