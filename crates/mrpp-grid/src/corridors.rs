@@ -81,7 +81,97 @@ impl RouteScratch {
     }
 }
 
+/// The tables of [`Corridors::cut_off`], kept between calls.
+#[derive(Debug, Default)]
+pub struct RegionScratch {
+    /// Per cell: `call << 1 | side` of the last call that reached it.
+    mark: Vec<u64>,
+    call: u64,
+    /// Per side (0: the sources', 1: the goal's): cells reached in order, and the blocked nodes met.
+    reached: [Vec<VertexId>; 2],
+    walls: [Vec<NodeId>; 2],
+}
+
 impl Corridors {
+    /// Whether the goal is cut off from every cell of `sources`: the cells that are not `avoid`
+    /// and lie in no node for which `blocked(node)` holds, connect none of `sources` to `goal`.
+    /// Returns the blocked nodes around the side that ran out of cells (that side is walled in
+    /// by them and `avoid`), or `None` when a source reaches the goal.
+    ///
+    /// This is the question a search of [`Corridors::route_length`] without a limit answers with
+    /// `None` from each source (its routes enter no blocked node and never step on `avoid`), asked
+    /// once for all sources with one breadth-first search from the sources and one from the goal,
+    /// expanded in turn: a cut-off side is found after at most twice its size in cells, however
+    /// large the other side.
+    pub fn cut_off(
+        &self,
+        g: &Graph,
+        sources: &[VertexId],
+        goal: VertexId,
+        avoid: VertexId,
+        blocked: impl Fn(NodeId) -> bool,
+        scratch: &mut RegionScratch,
+    ) -> Option<Vec<NodeId>> {
+        if sources.contains(&goal) {
+            return None;
+        }
+        if scratch.mark.len() != g.num_vertices() {
+            scratch.mark = vec![0; g.num_vertices()];
+            scratch.call = 0;
+        }
+        scratch.call += 1;
+        let stamp = scratch.call << 1;
+        for side in 0..2 {
+            scratch.reached[side].clear();
+            scratch.walls[side].clear();
+        }
+        let starts: [&[VertexId]; 2] = [sources, std::slice::from_ref(&goal)];
+        for (side, cells) in starts.into_iter().enumerate() {
+            for &v in cells {
+                if v == avoid {
+                    continue;
+                }
+                if scratch.mark[v as usize] >> 1 == scratch.call {
+                    continue;
+                }
+                if blocked(self.node_of(v)) {
+                    scratch.walls[side].push(self.node_of(v));
+                    continue;
+                }
+                scratch.mark[v as usize] = stamp | side as u64;
+                scratch.reached[side].push(v);
+            }
+        }
+        let mut next = [0usize; 2];
+        loop {
+            for (side, at) in next.iter_mut().enumerate() {
+                let Some(&u) = scratch.reached[side].get(*at) else {
+                    return Some(std::mem::take(&mut scratch.walls[side]));
+                };
+                *at += 1;
+                for &w in g.neighbors(u) {
+                    if w == avoid {
+                        continue;
+                    }
+                    let mark = scratch.mark[w as usize];
+                    if mark >> 1 == scratch.call {
+                        if mark & 1 != side as u64 {
+                            return None; // the two sides meet
+                        }
+                        continue;
+                    }
+                    let nw = self.node_of(w);
+                    if blocked(nw) {
+                        scratch.walls[side].push(nw);
+                        continue;
+                    }
+                    scratch.mark[w as usize] = stamp | side as u64;
+                    scratch.reached[side].push(w);
+                }
+            }
+        }
+    }
+
     /// Compresses `g`: chains of degree-2 vertices are merged in order. A closed ring of degree-2
     /// vertices (no junction at all) is cut at its lowest vertex id.
     pub fn build(g: &Graph) -> Self {
@@ -395,6 +485,71 @@ mod tests {
         );
         let left_goal = m.vertex_at(1, 1).unwrap();
         assert_eq!(route(&c, g, inside, left_goal, behind, &none), None);
+    }
+
+    #[test]
+    fn cut_off_answers_as_the_unlimited_searches_and_its_walls_suffice() {
+        let m = map(
+            "##########\n#   #    #\n# # # ## #\n#   #  # #\n## ### # #\n#        #\n##########",
+        );
+        let g = m.graph();
+        let c = Corridors::build(g);
+        let nv = g.num_vertices() as VertexId;
+        let mut x = 0x2545_f491_4f6c_dd1du64;
+        let mut next = move |m: u64| {
+            x ^= x << 13;
+            x ^= x >> 7;
+            x ^= x << 17;
+            x % m
+        };
+        let (mut region, mut routes) = (RegionScratch::default(), RouteScratch::default());
+        let (mut cut, mut open) = (0, 0);
+        for _ in 0..3000 {
+            let taken: Vec<NodeId> = (0..c.num_nodes() as NodeId)
+                .filter(|_| next(100) < 25)
+                .collect();
+            let blocked = |n: NodeId| taken.contains(&n);
+            let avoid = next(u64::from(nv)) as VertexId;
+            let goal = next(u64::from(nv)) as VertexId;
+            if goal == avoid {
+                continue;
+            }
+            let sources: Vec<VertexId> = g
+                .neighbors(avoid)
+                .iter()
+                .copied()
+                .filter(|&v| !blocked(c.node_of(v)) && next(3) > 0)
+                .collect();
+            let searched = sources.iter().all(|&s| {
+                c.route_length(
+                    g,
+                    s,
+                    goal,
+                    avoid,
+                    blocked,
+                    |v| g.manhattan(v, goal),
+                    u32::MAX,
+                    &mut routes,
+                )
+                .is_none()
+            });
+            let walls = c.cut_off(g, &sources, goal, avoid, blocked, &mut region);
+            assert_eq!(
+                walls.is_some(),
+                searched,
+                "{sources:?} -> {goal} avoiding {avoid}, {taken:?}"
+            );
+            if let Some(walls) = walls {
+                assert!(walls.iter().all(|&w| blocked(w)));
+                let only_walls = |n: NodeId| walls.contains(&n);
+                let again = c.cut_off(g, &sources, goal, avoid, only_walls, &mut region);
+                assert!(again.is_some(), "the walls {walls:?} alone do not cut off");
+                cut += 1;
+            } else {
+                open += 1;
+            }
+        }
+        assert!(cut > 300 && open > 300, "{cut} cut off, {open} not");
     }
 
     #[test]

@@ -52,7 +52,7 @@ use rand::seq::IndexedRandom;
 use rand_chacha::ChaCha8Rng;
 use rustc_hash::FxHashSet;
 
-use crate::corridors::{Corridors, NodeId, RouteScratch};
+use crate::corridors::{Corridors, NodeId, RegionScratch, RouteScratch};
 use mrpp_core::contract::{Ctx, Deadline, Planner, Unsolved};
 use mrpp_core::mapf::graph::{Graph, VertexId};
 use mrpp_core::mapf::instance::Instance;
@@ -229,6 +229,7 @@ pub fn greedy_path_search(
     let mut candidates: Vec<(u32, usize, VertexId)> = Vec::with_capacity(4);
     let mut ties: Vec<(usize, VertexId)> = Vec::with_capacity(4);
     let mut scratch = RouteScratch::default();
+    let mut region = RegionScratch::default();
     // Per robot, the proof that it had no route at its last decision (see `Sealed`).
     let mut sealed: Vec<Option<Sealed>> = vec![None; n];
     // Calls of `route_length` in this decision that found no route without a limit.
@@ -284,6 +285,25 @@ pub fn greedy_path_search(
                     taken.push(corridors.node_of(nk));
                 } else if lower != u32::MAX {
                     candidates.push((lower, k, nk));
+                }
+            }
+            // A robot that found no route at its last decision (its proof no longer holds) most
+            // likely finds none again: prove that first, for all neighbours at once, with a
+            // breadth-first search from both ends, which costs little when either side is walled
+            // in, whereas every search of `route_length` would explore the robot's whole side.
+            if sealed[r].is_some() {
+                let sources: Vec<VertexId> = candidates.iter().map(|c| c.2).collect();
+                if let Some(mut walls) =
+                    corridors.cut_off(g, &sources, goal, cur, blocked, &mut region)
+                {
+                    walls.sort_unstable();
+                    walls.dedup();
+                    sealed[r] = Some(Sealed {
+                        at: cur,
+                        walls,
+                        taken,
+                    });
+                    continue; // no route from any neighbour: r waits
                 }
             }
             candidates.sort_unstable();
