@@ -871,6 +871,7 @@ mod tests {
         // Without robot 1 the swap counts.
         let two = vec![routes[0].clone(), routes[2].clone()];
         let sel = RouteSelection::new(&two, 13, &Nsga3Planner::default());
+        assert!(sel.pairs.is_some());
         assert_eq!(count_conflicts(&sel, &genome[..2]), 1);
     }
 

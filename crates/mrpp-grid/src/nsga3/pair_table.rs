@@ -40,8 +40,8 @@ use super::Choice;
 /// Most entries (8 bytes each) a table fills.
 pub const MAX_ENTRIES: usize = 1 << 22;
 
-/// Most route pairs (8 bytes each) a table indexes.
-pub const MAX_ROUTE_PAIRS: usize = 1 << 24;
+/// Most route pairs (8 bytes each, 32 MB) a table indexes.
+pub const MAX_ROUTE_PAIRS: usize = 1 << 22;
 
 /// [`PairTable::rows`] of a route pair: entries not filled yet.
 const UNKNOWN: u64 = 0;
@@ -60,6 +60,8 @@ pub struct PairTable {
     rows: Vec<u64>,
     /// A route pair's row for all delay differences, before it is trimmed.
     row: Vec<u64>,
+    /// Whether a row did not fit in [`MAX_ENTRIES`] (then no row is filled any more).
+    full: bool,
     /// Rows of entries, one per delay difference `d_i - d_j + max_delay`: `vertex
     /// conflicts << 32 | swaps << 16 | step of the first swap`, the step counted from the earlier of
     /// the two start delays (0 when there is no swap).
@@ -162,6 +164,7 @@ impl PairTable {
             blocks,
             rows: vec![UNKNOWN; pairs],
             row: vec![0; 2 * max_delay as usize + 1],
+            full: false,
             entries: Vec::new(),
             indexed,
             max_delay,
@@ -172,9 +175,16 @@ impl PairTable {
     }
 
     /// f1 of `genome` (robot `i` takes `routes[i][genome[i].route]` after `genome[i].delay`
-    /// waits), or `None` for the caller to count stepwise: a delay above `max_delay`, or a full
-    /// table.
+    /// waits), or `None` for the caller to count stepwise: a genome of another length, a delay
+    /// above `max_delay`, or a full table. `routes` must be the routes the table was built for.
     pub fn count(&mut self, routes: &[Vec<Vec<VertexId>>], genome: &[Choice]) -> Option<u64> {
+        debug_assert!(
+            routes.len() == self.indexed.len()
+                && routes
+                    .iter()
+                    .zip(&self.indexed)
+                    .all(|(r, x)| r.len() == x.len())
+        );
         if genome.len() != self.marks.len() || genome.iter().any(|c| c.delay > self.max_delay) {
             return None;
         }
@@ -257,6 +267,9 @@ impl PairTable {
     #[cold]
     #[inline(never)]
     fn fill(&mut self, routes: &[Vec<Vec<VertexId>>], n: usize, ri: u32, rj: u32) -> Option<u64> {
+        if self.full {
+            return None;
+        }
         let b = &self.blocks[n];
         let (i, j, ri, rj) = (b.i as usize, b.j as usize, ri as usize, rj as usize);
         let pair = b.first + ri * b.routes_j as usize + rj;
@@ -273,6 +286,7 @@ impl PairTable {
                 let hi = self.row.iter().rposition(|&e| e != 0).expect("a conflict");
                 let offset = self.entries.len();
                 if offset + hi + 1 - lo > MAX_ENTRIES {
+                    self.full = true;
                     return None;
                 }
                 self.entries.extend_from_slice(&self.row[lo..=hi]);
@@ -305,8 +319,8 @@ fn share_a_vertex(a: &[VertexId], b: &[VertexId]) -> bool {
 
 /// Fills `out[k]` with the entry (see [`PairTable::entries`]) of routes `X` (robot i, delay `d_i`)
 /// and `Y` (robot j, delay `d_j`) for every delay difference `d_i - d_j = k - max_delay`, given each
-/// route in order and as its sorted `(vertex, index)` pairs; returns whether the routes share a vertex (if not, `out` is left
-/// as it was). The starts must differ and the goals must differ.
+/// route in order and as its sorted `(vertex, index)` pairs; returns whether the routes share a
+/// vertex (if not, `out` is left as it was). The starts must differ and the goals must differ.
 ///
 /// With `u` the step counted from `d_i` and `δ = d_j - d_i`, robot i is at index `x` for `u` in
 /// `[x, x]`, or `(-∞, 0]` for `x = 0`, or `[Lx, ∞)` for the last index, and robot j at index `y` for
@@ -413,14 +427,15 @@ mod tests {
     use rand::{RngExt, SeedableRng};
     use rand_chacha::ChaCha8Rng;
 
-    /// A random route over vertices `0..5` from `start` to `goal`, with repeats and waits
-    /// (`len` = 1 gives a route that stays on its start, which is then its goal).
+    /// A random route from `start` to `goal` through vertices `0..5` and the starts and goals of
+    /// both robots (8 to 11), with repeats and waits (`len` = 1 gives a route that stays on its
+    /// start, which is then its goal).
     fn route(rng: &mut ChaCha8Rng, start: VertexId, goal: VertexId, len: usize) -> Vec<VertexId> {
         if len == 1 {
             return vec![start];
         }
         let mut r = vec![start];
-        r.extend((2..len).map(|_| rng.random_range(0..5)));
+        r.extend((2..len).map(|_| [0, 1, 2, 3, 4, 8, 9, 10, 11][rng.random_range(0..9)]));
         r.push(goal);
         r
     }
@@ -439,7 +454,7 @@ mod tests {
         let (mut met, mut swapped) = (0, 0);
         for _ in 0..3000 {
             // Distinct starts 8 and 9, distinct goals 10 and 11 (or the start, for a route of one
-            // vertex), inner vertices shared at random.
+            // vertex); inner vertices at random, the other robot's start and goal among them.
             let (lx, ly) = (rng.random_range(1..8), rng.random_range(1..8));
             let x = route(&mut rng, 8, if lx == 1 { 8 } else { 10 }, lx);
             let y = route(&mut rng, 9, if ly == 1 { 9 } else { 11 }, ly);
@@ -480,6 +495,16 @@ mod tests {
         assert!(
             PairTable::new(&two(vec![0, 1, 2], vec![]), 5).is_none(),
             "empty route"
+        );
+        assert!(
+            PairTable::new(&two(vec![0, 1, 2], vec![3, 1, 4]), 2048).is_none(),
+            "delay differences past 12 bits"
+        );
+        let mixed = vec![vec![vec![0, 1, 2], vec![5, 1, 2]], vec![vec![3, 1, 4]]];
+        assert!(PairTable::new(&mixed, 5).is_none(), "one robot, two starts");
+        assert!(
+            PairTable::new(&[vec![vec![0, 1, 2]]], 5).is_none(),
+            "one robot"
         );
         let long = two((0..40_000).collect(), vec![50_000, 1]);
         assert!(PairTable::new(&long, 5).is_none(), "counts above 2^15");
