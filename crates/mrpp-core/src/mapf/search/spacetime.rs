@@ -194,6 +194,10 @@ const CLOSED: u32 = 1 << 31;
 /// beyond, a hash map.
 const DENSE_STATES: usize = 1 << 22;
 
+/// The least size of a thread's dense table (2 MiB): its pages are zeroed lazily, so only the
+/// states a query visits cost memory, and small queries whose spans grow need no new table.
+const DENSE_FIRST: usize = 1 << 18;
+
 /// One thread's dense table, reused by every query on that thread.
 #[derive(Default)]
 struct DenseScratch {
@@ -207,10 +211,13 @@ thread_local! {
 
 impl DenseScratch {
     /// A fresh stamp for a query over `n` states (a new, lazily zeroed table when it must grow
-    /// or the stamps wrap).
+    /// or the stamps wrap). A table starts at [`DENSE_FIRST`] states and grows to a power of two,
+    /// so that queries whose spans creep up do not each get a new table and fault its pages in
+    /// again.
     fn begin(&mut self, n: usize) -> u64 {
         if self.cells.len() < n || self.stamp == u32::MAX {
-            self.cells = vec![0; n.max(self.cells.len())];
+            let size = n.max(self.cells.len()).max(DENSE_FIRST).next_power_of_two();
+            self.cells = vec![0; size.min(DENSE_STATES)];
             self.stamp = 0;
         }
         self.stamp += 1;
@@ -501,6 +508,7 @@ impl Buckets {
         self.touched.clear();
         let n = size * size;
         if self.cells.len() < n {
+            let n = n.next_power_of_two();
             self.cells.resize_with(n, Vec::new);
             self.heads.resize(n, 0);
         }
