@@ -487,11 +487,14 @@ mod tests {
         assert_eq!(route(&c, g, inside, left_goal, behind, &none), None);
     }
 
+    /// Rooms, corridors, a dead end and a loop.
+    fn rooms() -> GridMap {
+        map("##########\n#   #    #\n# # # ## #\n#   #  # #\n## ### # #\n#        #\n##########")
+    }
+
     #[test]
     fn cut_off_answers_as_the_unlimited_searches_and_its_walls_suffice() {
-        let m = map(
-            "##########\n#   #    #\n# # # ## #\n#   #  # #\n## ### # #\n#        #\n##########",
-        );
+        let m = rooms();
         let g = m.graph();
         let c = Corridors::build(g);
         let nv = g.num_vertices() as VertexId;
@@ -554,10 +557,7 @@ mod tests {
 
     #[test]
     fn both_bounds_agree_under_every_single_blocked_node_and_avoided_cell() {
-        // Rooms, corridors, a dead end and a loop.
-        let m = map(
-            "##########\n#   #    #\n# # # ## #\n#   #  # #\n## ### # #\n#        #\n##########",
-        );
+        let m = rooms();
         let g = m.graph();
         let c = Corridors::build(g);
         let nv = g.num_vertices() as VertexId;
