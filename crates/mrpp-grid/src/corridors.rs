@@ -494,10 +494,10 @@ mod tests {
 
     #[test]
     fn cut_off_answers_as_the_unlimited_searches_and_its_walls_suffice() {
-        let m = rooms();
-        let g = m.graph();
-        let c = Corridors::build(g);
-        let nv = g.num_vertices() as VertexId;
+        // Corridors and dead ends (`rooms`), then open rooms with many junctions.
+        let open_rooms = map(
+            "##########\n#    #   #\n#    #   #\n#        #\n#### # ###\n#        #\n#  ##    #\n##########",
+        );
         let mut x = 0x2545_f491_4f6c_dd1du64;
         let mut next = move |m: u64| {
             x ^= x << 13;
@@ -506,53 +506,73 @@ mod tests {
             x % m
         };
         let (mut region, mut routes) = (RegionScratch::default(), RouteScratch::default());
-        let (mut cut, mut open) = (0, 0);
-        for _ in 0..3000 {
-            let taken: Vec<NodeId> = (0..c.num_nodes() as NodeId)
-                .filter(|_| next(100) < 25)
-                .collect();
-            let blocked = |n: NodeId| taken.contains(&n);
-            let avoid = next(u64::from(nv)) as VertexId;
-            let goal = next(u64::from(nv)) as VertexId;
-            if goal == avoid {
-                continue;
-            }
-            let sources: Vec<VertexId> = g
-                .neighbors(avoid)
-                .iter()
-                .copied()
-                .filter(|&v| !blocked(c.node_of(v)) && next(3) > 0)
-                .collect();
-            let searched = sources.iter().all(|&s| {
-                c.route_length(
-                    g,
-                    s,
-                    goal,
-                    avoid,
-                    blocked,
-                    |v| g.manhattan(v, goal),
-                    u32::MAX,
-                    &mut routes,
-                )
-                .is_none()
-            });
-            let walls = c.cut_off(g, &sources, goal, avoid, blocked, &mut region);
-            assert_eq!(
-                walls.is_some(),
-                searched,
-                "{sources:?} -> {goal} avoiding {avoid}, {taken:?}"
-            );
-            if let Some(walls) = walls {
+        for m in [rooms(), open_rooms] {
+            let g = m.graph();
+            let c = Corridors::build(g);
+            let nv = g.num_vertices() as VertexId;
+            let mut no_route =
+                |blocked: &dyn Fn(NodeId) -> bool, sources: &[VertexId], goal, avoid| {
+                    sources.iter().all(|&s| {
+                        c.route_length(
+                            g,
+                            s,
+                            goal,
+                            avoid,
+                            blocked,
+                            |v| g.manhattan(v, goal),
+                            u32::MAX,
+                            &mut routes,
+                        )
+                        .is_none()
+                    })
+                };
+            let (mut cut, mut open) = (0, 0);
+            for _ in 0..3000 {
+                let taken: Vec<NodeId> = (0..c.num_nodes() as NodeId)
+                    .filter(|_| next(100) < 25)
+                    .collect();
+                let blocked = |n: NodeId| taken.contains(&n);
+                let avoid = next(u64::from(nv)) as VertexId;
+                let goal = next(u64::from(nv)) as VertexId;
+                if goal == avoid {
+                    continue;
+                }
+                let sources: Vec<VertexId> = g
+                    .neighbors(avoid)
+                    .iter()
+                    .copied()
+                    .filter(|&v| !blocked(c.node_of(v)) && next(3) > 0)
+                    .collect();
+                let searched = no_route(&blocked, &sources, goal, avoid);
+                let walls = c.cut_off(g, &sources, goal, avoid, blocked, &mut region);
+                assert_eq!(
+                    walls.is_some(),
+                    searched,
+                    "{sources:?} -> {goal} avoiding {avoid}, {taken:?}"
+                );
+                let Some(walls) = walls else {
+                    open += 1;
+                    continue;
+                };
+                // What a seal relies on: with the walls blocked, whatever else is, no source has
+                // a route.
                 assert!(walls.iter().all(|&w| blocked(w)));
-                let only_walls = |n: NodeId| walls.contains(&n);
-                let again = c.cut_off(g, &sources, goal, avoid, only_walls, &mut region);
-                assert!(again.is_some(), "the walls {walls:?} alone do not cut off");
+                let extra: Vec<NodeId> = (0..c.num_nodes() as NodeId)
+                    .filter(|&n| !c.cells(n).contains(&goal) && next(100) < 20)
+                    .collect();
+                let walls_and_more = |n: NodeId| walls.contains(&n) || extra.contains(&n);
+                let sources: Vec<VertexId> = sources
+                    .into_iter()
+                    .filter(|&v| !walls_and_more(c.node_of(v)))
+                    .collect();
+                assert!(
+                    no_route(&walls_and_more, &sources, goal, avoid),
+                    "the walls {walls:?} with {extra:?} let {sources:?} reach {goal}"
+                );
                 cut += 1;
-            } else {
-                open += 1;
             }
+            assert!(cut > 300 && open > 300, "{cut} cut off, {open} not");
         }
-        assert!(cut > 300 && open > 300, "{cut} cut off, {open} not");
     }
 
     #[test]

@@ -215,6 +215,7 @@ impl DenseScratch {
     /// so that queries whose spans creep up do not each get a new table and fault its pages in
     /// again.
     fn begin(&mut self, n: usize) -> u64 {
+        debug_assert!(n <= DENSE_STATES);
         if self.cells.len() < n || self.stamp == u32::MAX {
             let size = n.max(self.cells.len()).max(DENSE_FIRST).next_power_of_two();
             self.cells = vec![0; size.min(DENSE_STATES)];
