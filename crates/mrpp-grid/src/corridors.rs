@@ -120,7 +120,6 @@ impl Corridors {
             scratch.call = 0;
         }
         scratch.call += 1;
-        let stamp = scratch.call << 1;
         for side in 0..2 {
             scratch.reached[side].clear();
             scratch.walls[side].clear();
@@ -128,18 +127,10 @@ impl Corridors {
         let starts: [&[VertexId]; 2] = [sources, std::slice::from_ref(&goal)];
         for (side, cells) in starts.into_iter().enumerate() {
             for &v in cells {
-                if v == avoid {
-                    continue;
+                if v != avoid {
+                    // A start the other side holds is impossible: no source is the goal.
+                    self.reach(scratch, side, v, &blocked);
                 }
-                if scratch.mark[v as usize] >> 1 == scratch.call {
-                    continue;
-                }
-                if blocked(self.node_of(v)) {
-                    scratch.walls[side].push(self.node_of(v));
-                    continue;
-                }
-                scratch.mark[v as usize] = stamp | side as u64;
-                scratch.reached[side].push(v);
             }
         }
         let mut next = [0usize; 2];
@@ -150,26 +141,37 @@ impl Corridors {
                 };
                 *at += 1;
                 for &w in g.neighbors(u) {
-                    if w == avoid {
-                        continue;
+                    if w != avoid && self.reach(scratch, side, w, &blocked) {
+                        return None; // the two sides meet
                     }
-                    let mark = scratch.mark[w as usize];
-                    if mark >> 1 == scratch.call {
-                        if mark & 1 != side as u64 {
-                            return None; // the two sides meet
-                        }
-                        continue;
-                    }
-                    let nw = self.node_of(w);
-                    if blocked(nw) {
-                        scratch.walls[side].push(nw);
-                        continue;
-                    }
-                    scratch.mark[w as usize] = stamp | side as u64;
-                    scratch.reached[side].push(w);
                 }
             }
         }
+    }
+
+    /// One step of [`Corridors::cut_off`]'s search on `side` into cell `w`: `true` when the other
+    /// side has reached `w` (the sides meet); else `w` is queued, or its node, when blocked, is
+    /// recorded as one of the side's walls (nothing when this side has reached `w` already).
+    #[inline(always)]
+    fn reach(
+        &self,
+        scratch: &mut RegionScratch,
+        side: usize,
+        w: VertexId,
+        blocked: &impl Fn(NodeId) -> bool,
+    ) -> bool {
+        let mark = scratch.mark[w as usize];
+        if mark >> 1 == scratch.call {
+            return mark & 1 != side as u64;
+        }
+        let nw = self.node_of(w);
+        if blocked(nw) {
+            scratch.walls[side].push(nw);
+        } else {
+            scratch.mark[w as usize] = scratch.call << 1 | side as u64;
+            scratch.reached[side].push(w);
+        }
+        false
     }
 
     /// Compresses `g`: chains of degree-2 vertices are merged in order. A closed ring of degree-2

@@ -230,6 +230,7 @@ pub fn greedy_path_search(
     let mut ties: Vec<(usize, VertexId)> = Vec::with_capacity(4);
     let mut scratch = RouteScratch::default();
     let mut region = RegionScratch::default();
+    let mut sources: Vec<VertexId> = Vec::with_capacity(4);
     // Per robot, the proof that it had no route at its last decision (see `Sealed`).
     let mut sealed: Vec<Option<Sealed>> = vec![None; n];
     // Calls of `route_length` in this decision that found no route without a limit.
@@ -292,7 +293,8 @@ pub fn greedy_path_search(
             // breadth-first search from both ends, which costs little when either side is walled
             // in, whereas every search of `route_length` would explore the robot's whole side.
             if sealed[r].is_some() {
-                let sources: Vec<VertexId> = candidates.iter().map(|c| c.2).collect();
+                sources.clear();
+                sources.extend(candidates.iter().map(|c| c.2));
                 if let Some(mut walls) =
                     corridors.cut_off(g, &sources, goal, cur, blocked, &mut region)
                 {

@@ -426,7 +426,7 @@ pub struct RouteSelection<'a> {
     pub mutation_rate: f64,
     scratch: RefCell<Occupancy>,
     /// Remembered pair conflicts for [`count_conflicts`] (`None`: it counts stepwise).
-    pairs: Option<RefCell<PairTable>>,
+    pairs: Option<RefCell<PairTable<'a>>>,
     /// Objectives of genomes evaluated before: offspring often repeat a genome once the
     /// population has converged, and an evaluation is a pure function of the genome.
     memo: RefCell<FxHashMap<Vec<Choice>, Vec<f64>>>,
@@ -523,7 +523,7 @@ pub fn count_conflicts(sel: &RouteSelection, genome: &[Choice]) -> u64 {
     match sel
         .pairs
         .as_ref()
-        .and_then(|t| t.borrow_mut().count(sel.routes, genome))
+        .and_then(|t| t.borrow_mut().count(genome))
     {
         Some(c) => {
             debug_assert_eq!(c, count_conflicts_stepwise(sel, genome), "{genome:?}");
@@ -909,7 +909,7 @@ mod tests {
             };
             let genome = sel.random_genome(&mut rng);
             let stepwise = count_conflicts_stepwise(&sel, &genome);
-            if let Some(c) = table.borrow_mut().count(sel.routes, &genome) {
+            if let Some(c) = table.borrow_mut().count(&genome) {
                 assert_eq!(c, stepwise, "robots {keep:?}, genome {genome:?}");
                 counted += 1;
                 fewest = fewest.min(c);

@@ -51,7 +51,9 @@ const APART: u64 = 1;
 const FIRST_OFFSET: u64 = 2;
 
 /// Remembered pair conflicts of one route selection.
-pub struct PairTable {
+pub struct PairTable<'a> {
+    /// `routes[i]` = robot `i`'s candidate routes.
+    routes: &'a [Vec<Vec<VertexId>>],
     /// Pairs `(i, j)`, `i < j`, whose candidate routes share a vertex; the others never conflict.
     blocks: Vec<Block>,
     /// Per (block, route of i, route of j): [`UNKNOWN`], [`APART`], or its row as
@@ -89,10 +91,10 @@ struct Block {
     first: usize,
 }
 
-impl PairTable {
+impl<'a> PairTable<'a> {
     /// The table for `routes` (`routes[i]` = robot `i`'s candidates) and start delays
     /// `0..=max_delay`, or `None` when the pair sum would not be exact or the table too large.
-    pub fn new(routes: &[Vec<Vec<VertexId>>], max_delay: u32) -> Option<PairTable> {
+    pub fn new(routes: &'a [Vec<Vec<VertexId>>], max_delay: u32) -> Option<Self> {
         let n = routes.len();
         if n < 2
             || routes
@@ -161,6 +163,7 @@ impl PairTable {
             }
         }
         Some(PairTable {
+            routes,
             blocks,
             rows: vec![UNKNOWN; pairs],
             row: vec![0; 2 * max_delay as usize + 1],
@@ -176,15 +179,8 @@ impl PairTable {
 
     /// f1 of `genome` (robot `i` takes `routes[i][genome[i].route]` after `genome[i].delay`
     /// waits), or `None` for the caller to count stepwise: a genome of another length, a delay
-    /// above `max_delay`, or a full table. `routes` must be the routes the table was built for.
-    pub fn count(&mut self, routes: &[Vec<Vec<VertexId>>], genome: &[Choice]) -> Option<u64> {
-        debug_assert!(
-            routes.len() == self.indexed.len()
-                && routes
-                    .iter()
-                    .zip(&self.indexed)
-                    .all(|(r, x)| r.len() == x.len())
-        );
+    /// above `max_delay`, or a full table.
+    pub fn count(&mut self, genome: &[Choice]) -> Option<u64> {
         if genome.len() != self.marks.len() || genome.iter().any(|c| c.delay > self.max_delay) {
             return None;
         }
@@ -197,7 +193,7 @@ impl PairTable {
             let (ci, cj) = (genome[b.i as usize], genome[b.j as usize]);
             let pair = b.first + (ci.route * b.routes_j + cj.route) as usize;
             let row = match self.rows[pair] {
-                UNKNOWN => self.fill(routes, n, ci.route, cj.route)?,
+                UNKNOWN => self.fill(n, ci.route, cj.route)?,
                 row => row,
             };
             if row == APART {
@@ -225,6 +221,7 @@ impl PairTable {
         }
         // A swap of a < b at t - 1 -> t is counted stepwise only when no robot below b stands on
         // b's vertex at t - 1: take out the others.
+        let routes = self.routes;
         let pos = |r: u32, t: usize| {
             let c = genome[r as usize];
             at(&routes[r as usize][c.route as usize], c.delay as usize, t)
@@ -259,14 +256,12 @@ impl PairTable {
         }
         Some(total)
     }
-}
 
-impl PairTable {
     /// Fills the entries of block `n`'s route pair `(ri, rj)` and returns its [`PairTable::rows`]
     /// value, or `None` when the table is full.
     #[cold]
     #[inline(never)]
-    fn fill(&mut self, routes: &[Vec<Vec<VertexId>>], n: usize, ri: u32, rj: u32) -> Option<u64> {
+    fn fill(&mut self, n: usize, ri: u32, rj: u32) -> Option<u64> {
         if self.full {
             return None;
         }
@@ -274,8 +269,8 @@ impl PairTable {
         let (i, j, ri, rj) = (b.i as usize, b.j as usize, ri as usize, rj as usize);
         let pair = b.first + ri * b.routes_j as usize + rj;
         let met = pair_profile(
-            (&routes[i][ri], &self.indexed[i][ri]),
-            (&routes[j][rj], &self.indexed[j][rj]),
+            (&self.routes[i][ri], &self.indexed[i][ri]),
+            (&self.routes[j][rj], &self.indexed[j][rj]),
             self.max_delay,
             &mut self.row,
         );
