@@ -255,18 +255,18 @@ fn unwind(nodes: &[Node], idx: u32) -> Vec<VertexId> {
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::mapf::graph::Graph;
     use crate::mapf::search::distance::bfs_distances;
-    use crate::mapf::search::spacetime::{query, space_time_astar};
+    use crate::mapf::search::spacetime::{query, space_time_astar, space_time_astar_plain};
     use proptest::prelude::*;
 
     /// A random connected graph, a few reserved paths (random walks, some parked) that do not
     /// collide with each other, and a query: start (free at the start time when one of 20 draws
     /// is), goal, start time in 0..4 and time limit in 0..30.
     #[allow(clippy::type_complexity)]
-    fn case() -> impl Strategy<
+    pub(crate) fn case() -> impl Strategy<
         Value = (
             Graph,
             Vec<(Vec<VertexId>, bool)>,
@@ -345,6 +345,8 @@ mod tests {
             let mut q = query(&g, s, goal, &h, max_time);
             q.start_time = t0;
             let a = space_time_astar(&q, &res);
+            // The dense tables and the bucket queue draw the same path as the plain search.
+            prop_assert_eq!(&a, &space_time_astar_plain(&q, &res));
             let b = sipp(&q, &res);
             let arrival = earliest_arrival(&q, &res);
             match &b {

@@ -173,9 +173,10 @@ impl Reservations {
 }
 
 /// The best `g` of each `(vertex, time)` state and whether it was expanded: a dense table over
-/// the query's time span when it is small enough (the usual case), else a hash map.
+/// the query's time span when it is small enough (the usual case; `Flags` in full mode, `Dense`
+/// in windowed mode), else a hash map.
 enum Seen<'s> {
-    /// `(v, t)` at `(t - t0) * nv + v`, in the calling thread's [`DenseScratch`]: an entry is
+    /// Windowed mode: `(v, t)` at `(t - t0) * nv + v`, in the calling thread's [`DenseScratch`]: an entry is
     /// `stamp << 32 | x` where `x` is `g + 1` with [`CLOSED`] set once expanded, and an entry with
     /// another stamp (an earlier query's) counts as unseen, so nothing is cleared between queries.
     Dense {
@@ -184,17 +185,32 @@ enum Seen<'s> {
         nv: usize,
         t0: u32,
     },
+    /// Full mode: every way to `(v, t)` costs `t - t0` (moves and waits cost 1), so a state
+    /// needs only whether it was seen and expanded: `(v, t)` at the same index as `Dense`, in the
+    /// calling thread's [`FlagScratch`], an entry being the query's stamp with
+    /// [`FLAG_CLOSED`] set once expanded. A quarter of `Dense`'s bytes: a query touches (and a
+    /// fresh process faults in) a quarter of the pages.
+    Flags {
+        cells: &'s mut [u16],
+        stamp: u16,
+        nv: usize,
+        t0: u32,
+    },
     Hash(FxHashMap<(VertexId, u32), (u32, bool)>),
 }
 
 const CLOSED: u32 = 1 << 31;
 
-/// Dense tables up to this many states (8 bytes each, 32 MiB): they are kept per thread and
+/// The expanded mark of a [`Seen::Flags`] entry; the other 15 bits hold the stamp.
+const FLAG_CLOSED: u16 = 1 << 15;
+
+/// Dense tables up to this many states (8 bytes each in windowed mode, 32 MiB; 2 bytes in full
+/// mode): they are kept per thread and
 /// never cleared (entries carry the query's stamp), so a query touches only the states it visits;
 /// beyond, a hash map.
 const DENSE_STATES: usize = 1 << 22;
 
-/// The least size of a thread's dense table (2 MiB): its pages are zeroed lazily, so only the
+/// The least size of a thread's dense table (2 MiB in windowed mode, 512 KiB in full mode): its pages are zeroed lazily, so only the
 /// states a query visits cost memory, and small queries whose spans grow need no new table.
 const DENSE_FIRST: usize = 1 << 18;
 
@@ -205,8 +221,31 @@ struct DenseScratch {
     stamp: u32,
 }
 
+/// One thread's table of [`Seen::Flags`], reused by every full-mode query on that thread.
+#[derive(Default)]
+struct FlagScratch {
+    cells: Vec<u16>,
+    stamp: u16,
+}
+
 thread_local! {
     static DENSE: std::cell::RefCell<DenseScratch> = std::cell::RefCell::default();
+    static FLAGS: std::cell::RefCell<FlagScratch> = std::cell::RefCell::default();
+}
+
+impl FlagScratch {
+    /// A fresh stamp for a query over `n` states, as [`DenseScratch::begin`] (a new, lazily
+    /// zeroed table when it must grow or the 15-bit stamps run out).
+    fn begin(&mut self, n: usize) -> u16 {
+        debug_assert!(n <= DENSE_STATES);
+        if self.cells.len() < n || self.stamp == FLAG_CLOSED - 1 {
+            let size = n.max(self.cells.len()).max(DENSE_FIRST).next_power_of_two();
+            self.cells = vec![0; size.min(DENSE_STATES)];
+            self.stamp = 0;
+        }
+        self.stamp += 1;
+        self.stamp
+    }
 }
 
 impl DenseScratch {
@@ -246,6 +285,15 @@ impl Seen<'_> {
                 let x = c as u32;
                 (c >> 32 == *stamp).then(|| ((x & !CLOSED) - 1, x & CLOSED != 0))
             }
+            Seen::Flags {
+                cells,
+                stamp,
+                nv,
+                t0,
+            } => {
+                let c = *cells.get(slot(*nv, *t0, v, t))?;
+                (c & !FLAG_CLOSED == *stamp).then_some((t - *t0, c & FLAG_CLOSED != 0))
+            }
             Seen::Hash(m) => m.get(&(v, t)).copied(),
         }
     }
@@ -262,6 +310,17 @@ impl Seen<'_> {
                 if let Some(c) = cells.get_mut(slot(*nv, *t0, v, t)) {
                     let x = (g + 1) | if closed { CLOSED } else { 0 };
                     *c = (*stamp << 32) | u64::from(x);
+                }
+            }
+            Seen::Flags {
+                cells,
+                stamp,
+                nv,
+                t0,
+            } => {
+                debug_assert_eq!(g, t - *t0, "full mode: the cost of (v, t) is t - t0");
+                if let Some(c) = cells.get_mut(slot(*nv, *t0, v, t)) {
+                    *c = *stamp | if closed { FLAG_CLOSED } else { 0 };
                 }
             }
             Seen::Hash(m) => {
@@ -311,6 +370,16 @@ pub fn space_time_astar(q: &Query, res: &Reservations) -> Search {
     let nv = q.graph.num_vertices();
     let span = last_time.saturating_sub(q.start_time) as usize + 1;
     match nv.checked_mul(span) {
+        Some(n) if n <= DENSE_STATES && q.window.is_none() => FLAGS.with_borrow_mut(|scratch| {
+            let stamp = scratch.begin(n);
+            let mut seen = Seen::Flags {
+                cells: &mut scratch.cells[..n],
+                stamp,
+                nv,
+                t0: q.start_time,
+            };
+            search(q, res, &mut seen, true)
+        }),
         Some(n) if n <= DENSE_STATES => DENSE.with_borrow_mut(|scratch| {
             let stamp = scratch.begin(n);
             let mut seen = Seen::Dense {
@@ -319,14 +388,15 @@ pub fn space_time_astar(q: &Query, res: &Reservations) -> Search {
                 nv,
                 t0: q.start_time,
             };
-            search(q, res, &mut seen)
+            search(q, res, &mut seen, true)
         }),
-        _ => search(q, res, &mut Seen::Hash(FxHashMap::default())),
+        _ => search(q, res, &mut Seen::Hash(FxHashMap::default()), true),
     }
 }
 
-/// [`space_time_astar`] with its table of seen states.
-fn search(q: &Query, res: &Reservations, seen: &mut Seen) -> Search {
+/// [`space_time_astar`] with its table of seen states; `buckets`: a bucket queue when the
+/// `(f, g)` grid is small (else, and always without, a binary heap: same order).
+fn search(q: &Query, res: &Reservations, seen: &mut Seen, buckets: bool) -> Search {
     if !res.vertex_free(q.start, q.start_time) {
         return Search::NotFound;
     }
@@ -344,13 +414,8 @@ fn search(q: &Query, res: &Reservations, seen: &mut Seen) -> Search {
     if h(q.start, q.start_time) == u32::MAX {
         return Search::NotFound;
     }
-    // Node arena: (vertex, t, g, parent, terminal).
-    struct Node {
-        v: VertexId,
-        t: u32,
-        parent: u32,
-    }
-    let mut nodes: Vec<Node> = Vec::new();
+    let mut nodes = NODES.take();
+    nodes.clear();
     let end_time = q.window.map(|w| q.start_time + w);
     let f0 = h(q.start, q.start_time);
     // Full mode: `f` and `g` lie in `0 ..= max_time - start_time` (the pruning by `max_time`
@@ -358,7 +423,8 @@ fn search(q: &Query, res: &Reservations, seen: &mut Seen) -> Search {
     // heap when it is small.
     let span = u64::from(q.max_time.saturating_sub(q.start_time)) + 1;
     let mut open = match end_time {
-        None if u64::from(f0) < span
+        None if buckets
+            && u64::from(f0) < span
             && span
                 .checked_mul(span)
                 .is_some_and(|n| n <= BUCKET_CELLS as u64) =>
@@ -438,7 +504,21 @@ fn search(q: &Query, res: &Reservations, seen: &mut Seen) -> Search {
     if let Open::Buckets(b) = open {
         BUCKETS.set(b);
     }
+    NODES.set(nodes);
     found
+}
+
+/// A state [`space_time_astar`] reached: its vertex and time, and the node it came from
+/// (`u32::MAX` for the start).
+struct Node {
+    v: VertexId,
+    t: u32,
+    parent: u32,
+}
+
+thread_local! {
+    /// The calling thread's node arena, lent to one search at a time.
+    static NODES: std::cell::Cell<Vec<Node>> = const { std::cell::Cell::new(Vec::new()) };
 }
 
 /// Bucket queues up to this many `(f, g)` cells; beyond, a binary heap.
@@ -486,14 +566,21 @@ impl Open {
     }
 }
 
-/// A bucket queue over `f` and `g`, both in `0 .. size`: per cell a FIFO of node indices (a
-/// vector and its read position). Within a level of `f` the highest `g` with entries leaves
-/// first; `top[f]` bounds it from above. `level` is the least `f` that may hold entries (a
-/// heuristic that is not consistent may queue below the level being emptied).
+/// A bucket queue over `f` and `g`, both in `0 .. size`: per cell a FIFO of node indices, a
+/// linked list through one arena of entries (`first[c]`/`last[c]` hold an entry's index + 1, 0
+/// when the cell is empty). Within a level of `f` the highest `g` with entries leaves first;
+/// `top[f]` bounds it from above. `level` is the least `f` that may hold entries (a heuristic
+/// that is not consistent may queue below the level being emptied).
+///
+/// The cell tables are allocated zeroed (lazily, by the system) and only the cells a search
+/// used are reset after it, so a search touches only the pages of the cells it uses: the grid
+/// has `size²` cells, of which a search uses a thin band.
 #[derive(Default)]
 struct Buckets {
-    cells: Vec<Vec<u32>>,
-    heads: Vec<u32>,
+    first: Vec<u32>,
+    last: Vec<u32>,
+    /// Per entry: the node index and the next entry of its cell (index + 1, 0 at the end).
+    entries: Vec<(u32, u32)>,
     top: Vec<i64>,
     touched: Vec<u32>,
     size: usize,
@@ -503,15 +590,16 @@ struct Buckets {
 impl Buckets {
     fn begin(&mut self, size: usize) {
         for &c in &self.touched {
-            self.cells[c as usize].clear();
-            self.heads[c as usize] = 0;
+            self.first[c as usize] = 0;
+            self.last[c as usize] = 0;
         }
         self.touched.clear();
+        self.entries.clear();
         let n = size * size;
-        if self.cells.len() < n {
+        if self.first.len() < n {
             let n = n.next_power_of_two();
-            self.cells.resize_with(n, Vec::new);
-            self.heads.resize(n, 0);
+            self.first = vec![0; n];
+            self.last = vec![0; n];
         }
         self.top.clear();
         self.top.resize(size, -1);
@@ -523,10 +611,17 @@ impl Buckets {
         debug_assert!((f as usize) < self.size && (g as usize) < self.size);
         let l = f as usize;
         let c = l * self.size + g as usize;
-        if self.cells[c].is_empty() {
-            self.touched.push(c as u32);
+        self.entries.push((idx, 0));
+        let e = self.entries.len() as u32;
+        if self.first[c] == 0 {
+            if self.last[c] == 0 {
+                self.touched.push(c as u32);
+            }
+            self.first[c] = e;
+        } else {
+            self.entries[self.last[c] as usize - 1].1 = e;
         }
-        self.cells[c].push(idx);
+        self.last[c] = e;
         self.top[l] = self.top[l].max(i64::from(g));
         self.level = self.level.min(l);
     }
@@ -537,12 +632,14 @@ impl Buckets {
             let l = self.level;
             while self.top[l] >= 0 {
                 let c = l * self.size + self.top[l] as usize;
-                let head = self.heads[c] as usize;
-                if let Some(&idx) = self.cells[c].get(head) {
-                    self.heads[c] += 1;
-                    return Some((self.top[l] as u32, idx));
+                match self.first[c] {
+                    0 => self.top[l] -= 1,
+                    e => {
+                        let (idx, next) = self.entries[e as usize - 1];
+                        self.first[c] = next;
+                        return Some((self.top[l] as u32, idx));
+                    }
                 }
-                self.top[l] -= 1;
             }
             self.level += 1;
         }
@@ -569,6 +666,13 @@ pub(crate) fn query<'a>(
         window: None,
         deadline: Deadline::none(),
     }
+}
+
+/// [`space_time_astar`] with a hash map of states and a binary heap, the plainest form of the
+/// search: the tests check that the tables used for speed do not change its answer.
+#[cfg(test)]
+pub(crate) fn space_time_astar_plain(q: &Query, res: &Reservations) -> Search {
+    search(q, res, &mut Seen::Hash(FxHashMap::default()), false)
 }
 
 #[cfg(test)]
