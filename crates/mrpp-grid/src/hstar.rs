@@ -317,6 +317,14 @@ pub fn greedy_path_search(
                 if best != u32::MAX && 1 + lower > best {
                     break; // sorted by lower bound: no later neighbour can tie either
                 }
+                // With the first of the shortest taken, a neighbour that can at best tie is
+                // searched only if it comes before every tie found so far.
+                if cfg.tie_break == TieBreak::First
+                    && 1 + lower == best
+                    && ties.iter().all(|&(kt, _)| kt < k)
+                {
+                    continue;
+                }
                 // A neighbour inside the region a search without a limit exhausted in vain
                 // has no route either (it would give that search one through it).
                 if failed_calls.iter().any(|&c| scratch.reached_in(nk, c)) {
