@@ -570,7 +570,12 @@ impl Robots<'_> {
     }
 
     /// The space-time query of robot `i` from its start at time 0, arriving by `max_time`.
-    fn query<'q>(&'q self, i: usize, h: &'q dyn Fn(VertexId) -> u32, max_time: u32) -> Query<'q> {
+    fn query<'q, H: Fn(VertexId) -> u32>(
+        &'q self,
+        i: usize,
+        h: &'q H,
+        max_time: u32,
+    ) -> Query<'q, H> {
         Query {
             graph: self.g,
             start: self.inst.starts[i],

@@ -35,7 +35,7 @@ use crate::mapf::search::spacetime::{Query, Reservations, Search};
 ///
 /// # Panics
 /// When `q.window` is `Some`.
-pub fn sipp(q: &Query, res: &Reservations) -> Search {
+pub fn sipp<H: Fn(VertexId) -> u32 + ?Sized>(q: &Query<H>, res: &Reservations) -> Search {
     assert!(q.window.is_none(), "SIPP has no windowed mode");
     if !res.vertex_free(q.start, q.start_time) {
         return Search::NotFound;
@@ -102,8 +102,8 @@ pub fn sipp(q: &Query, res: &Reservations) -> Search {
 /// ends, `visit(w, a, h(w))` with the earliest arrival `a` in it. Arrivals that cannot reach the
 /// goal by `q.max_time` (by `q.h`) are left out; the caller checks `t < q.max_time`.
 #[inline]
-fn successors(
-    q: &Query,
+fn successors<H: Fn(VertexId) -> u32 + ?Sized>(
+    q: &Query<H>,
     res: &Reservations,
     v: VertexId,
     t: u32,
@@ -155,7 +155,10 @@ fn successors(
 ///
 /// Tables are kept per thread and stamped per query. `q.h` must be consistent (a distance
 /// table is); `q.window` must be `None`.
-pub fn earliest_arrival(q: &Query, res: &Reservations) -> Result<u32, Search> {
+pub fn earliest_arrival<H: Fn(VertexId) -> u32 + ?Sized>(
+    q: &Query<H>,
+    res: &Reservations,
+) -> Result<u32, Search> {
     debug_assert!(q.window.is_none(), "SIPP has no windowed mode");
     if !res.vertex_free(q.start, q.start_time) {
         return Err(Search::NotFound);
@@ -189,7 +192,12 @@ thread_local! {
 }
 
 impl ArrivalScratch {
-    fn search(&mut self, q: &Query, res: &Reservations, h0: u32) -> Result<u32, Search> {
+    fn search<H: Fn(VertexId) -> u32 + ?Sized>(
+        &mut self,
+        q: &Query<H>,
+        res: &Reservations,
+        h0: u32,
+    ) -> Result<u32, Search> {
         let nv = q.graph.num_vertices();
         if self.done.len() < nv || self.stamp == u32::MAX {
             self.done = vec![0; nv.max(self.done.len())];

@@ -173,35 +173,43 @@ impl Reservations {
 }
 
 /// The best `g` of each `(vertex, time)` state and whether it was expanded: a dense table over
-/// the query's time span when it is small enough (the usual case; `Flags` in full mode, `Dense`
-/// in windowed mode), else a hash map.
-enum Seen<'s> {
-    /// Windowed mode: `(v, t)` at `(t - t0) * nv + v`, in the calling thread's [`DenseScratch`]: an entry is
-    /// `stamp << 32 | x` where `x` is `g + 1` with [`CLOSED`] set once expanded, and an entry with
-    /// another stamp (an earlier query's) counts as unseen, so nothing is cleared between queries.
-    Dense {
-        cells: &'s mut [u64],
-        stamp: u64,
-        nv: usize,
-        t0: u32,
-    },
-    /// Full mode: every way to `(v, t)` costs `t - t0` (moves and waits cost 1), so a state
-    /// needs only whether it was seen and expanded: `(v, t)` at the same index as `Dense`, in the
-    /// calling thread's [`FlagScratch`], an entry being the query's stamp with
-    /// [`FLAG_CLOSED`] set once expanded. A quarter of `Dense`'s bytes: a query touches (and a
-    /// fresh process faults in) a quarter of the pages.
-    Flags {
-        cells: &'s mut [u16],
-        stamp: u16,
-        nv: usize,
-        t0: u32,
-    },
-    Hash(FxHashMap<(VertexId, u32), (u32, bool)>),
+/// the query's time span when it is small enough (the usual case; [`FlagStates`] in full mode,
+/// [`DenseStates`] in windowed mode), else a hash map. [`space_time_astar`]'s search is compiled
+/// once per table, so the lookups inline.
+trait Seen {
+    fn get(&self, v: VertexId, t: u32) -> Option<(u32, bool)>;
+    fn set(&mut self, v: VertexId, t: u32, g: u32, closed: bool);
 }
+
+/// Windowed mode: `(v, t)` at `(t - t0) * nv + v`, in the calling thread's [`DenseScratch`]: an
+/// entry is `stamp << 32 | x` where `x` is `g + 1` with [`CLOSED`] set once expanded, and an
+/// entry with another stamp (an earlier query's) counts as unseen, so nothing is cleared between
+/// queries.
+struct DenseStates<'s> {
+    cells: &'s mut [u64],
+    stamp: u64,
+    nv: usize,
+    t0: u32,
+}
+
+/// Full mode: every way to `(v, t)` costs `t - t0` (moves and waits cost 1), so a state needs
+/// only whether it was seen and expanded: `(v, t)` at the same index as in [`DenseStates`], in
+/// the calling thread's [`FlagScratch`], an entry being the query's stamp with [`FLAG_CLOSED`]
+/// set once expanded. A quarter of [`DenseStates`]' bytes: a query touches (and a fresh process
+/// faults in) a quarter of the pages.
+struct FlagStates<'s> {
+    cells: &'s mut [u16],
+    stamp: u16,
+    nv: usize,
+    t0: u32,
+}
+
+/// Queries whose span is too large for a dense table.
+type HashStates = FxHashMap<(VertexId, u32), (u32, bool)>;
 
 const CLOSED: u32 = 1 << 31;
 
-/// The expanded mark of a [`Seen::Flags`] entry; the other 15 bits hold the stamp.
+/// The expanded mark of a [`FlagStates`] entry; the other 15 bits hold the stamp.
 const FLAG_CLOSED: u16 = 1 << 15;
 
 /// Dense tables up to this many states (8 bytes each in windowed mode, 32 MiB; 2 bytes in full
@@ -221,7 +229,7 @@ struct DenseScratch {
     stamp: u32,
 }
 
-/// One thread's table of [`Seen::Flags`], reused by every full-mode query on that thread.
+/// One thread's table of [`FlagStates`], reused by every full-mode query on that thread.
 #[derive(Default)]
 struct FlagScratch {
     cells: Vec<u16>,
@@ -271,73 +279,60 @@ fn slot(nv: usize, t0: u32, v: VertexId, t: u32) -> usize {
     (t - t0) as usize * nv + v as usize
 }
 
-impl Seen<'_> {
+impl Seen for DenseStates<'_> {
     #[inline]
     fn get(&self, v: VertexId, t: u32) -> Option<(u32, bool)> {
-        match self {
-            Seen::Dense {
-                cells,
-                stamp,
-                nv,
-                t0,
-            } => {
-                let c = *cells.get(slot(*nv, *t0, v, t))?;
-                let x = c as u32;
-                (c >> 32 == *stamp).then(|| ((x & !CLOSED) - 1, x & CLOSED != 0))
-            }
-            Seen::Flags {
-                cells,
-                stamp,
-                nv,
-                t0,
-            } => {
-                let c = *cells.get(slot(*nv, *t0, v, t))?;
-                (c & !FLAG_CLOSED == *stamp).then_some((t - *t0, c & FLAG_CLOSED != 0))
-            }
-            Seen::Hash(m) => m.get(&(v, t)).copied(),
-        }
+        let c = *self.cells.get(slot(self.nv, self.t0, v, t))?;
+        let x = c as u32;
+        (c >> 32 == self.stamp).then(|| ((x & !CLOSED) - 1, x & CLOSED != 0))
     }
 
     #[inline]
     fn set(&mut self, v: VertexId, t: u32, g: u32, closed: bool) {
-        match self {
-            Seen::Dense {
-                cells,
-                stamp,
-                nv,
-                t0,
-            } => {
-                if let Some(c) = cells.get_mut(slot(*nv, *t0, v, t)) {
-                    let x = (g + 1) | if closed { CLOSED } else { 0 };
-                    *c = (*stamp << 32) | u64::from(x);
-                }
-            }
-            Seen::Flags {
-                cells,
-                stamp,
-                nv,
-                t0,
-            } => {
-                debug_assert_eq!(g, t - *t0, "full mode: the cost of (v, t) is t - t0");
-                if let Some(c) = cells.get_mut(slot(*nv, *t0, v, t)) {
-                    *c = *stamp | if closed { FLAG_CLOSED } else { 0 };
-                }
-            }
-            Seen::Hash(m) => {
-                m.insert((v, t), (g, closed));
-            }
+        if let Some(c) = self.cells.get_mut(slot(self.nv, self.t0, v, t)) {
+            let x = (g + 1) | if closed { CLOSED } else { 0 };
+            *c = (self.stamp << 32) | u64::from(x);
         }
     }
 }
 
-/// One space-time query.
-pub struct Query<'a> {
+impl Seen for FlagStates<'_> {
+    #[inline]
+    fn get(&self, v: VertexId, t: u32) -> Option<(u32, bool)> {
+        let c = *self.cells.get(slot(self.nv, self.t0, v, t))?;
+        (c & !FLAG_CLOSED == self.stamp).then_some((t - self.t0, c & FLAG_CLOSED != 0))
+    }
+
+    #[inline]
+    fn set(&mut self, v: VertexId, t: u32, g: u32, closed: bool) {
+        debug_assert_eq!(g, t - self.t0, "full mode: the cost of (v, t) is t - t0");
+        if let Some(c) = self.cells.get_mut(slot(self.nv, self.t0, v, t)) {
+            *c = self.stamp | if closed { FLAG_CLOSED } else { 0 };
+        }
+    }
+}
+
+impl Seen for HashStates {
+    #[inline]
+    fn get(&self, v: VertexId, t: u32) -> Option<(u32, bool)> {
+        FxHashMap::get(self, &(v, t)).copied()
+    }
+
+    #[inline]
+    fn set(&mut self, v: VertexId, t: u32, g: u32, closed: bool) {
+        self.insert((v, t), (g, closed));
+    }
+}
+
+/// One space-time query. `H` is the heuristic's type: a closure's own type where the caller
+/// names it (the search is then compiled for it and the heuristic inlines), else `dyn Fn`.
+pub struct Query<'a, H: Fn(VertexId) -> u32 + ?Sized = dyn Fn(VertexId) -> u32 + 'a> {
     pub graph: &'a Graph,
     pub start: VertexId,
     pub goal: VertexId,
     pub start_time: u32,
     /// Admissible estimate of the remaining cost to the goal.
-    pub h: &'a dyn Fn(VertexId) -> u32,
+    pub h: &'a H,
     /// Full search: only paths arriving by this time (states that cannot are pruned with `h`).
     /// Windowed search: ignored.
     pub max_time: u32,
@@ -364,7 +359,10 @@ pub enum Search {
 /// from [`Reservations::free_for_good_from`] (admissible and consistent). With ties going to the
 /// higher `g`, a goal reserved late no longer makes the search expand every `(cell, time)` state
 /// before `T_goal`; a goal parked on forever is answered at once (`NotFound`).
-pub fn space_time_astar(q: &Query, res: &Reservations) -> Search {
+pub fn space_time_astar<H: Fn(VertexId) -> u32 + ?Sized>(
+    q: &Query<H>,
+    res: &Reservations,
+) -> Search {
     let end_time = q.window.map(|w| q.start_time + w);
     let last_time = end_time.unwrap_or(q.max_time);
     let nv = q.graph.num_vertices();
@@ -372,7 +370,7 @@ pub fn space_time_astar(q: &Query, res: &Reservations) -> Search {
     match nv.checked_mul(span) {
         Some(n) if n <= DENSE_STATES && q.window.is_none() => FLAGS.with_borrow_mut(|scratch| {
             let stamp = scratch.begin(n);
-            let mut seen = Seen::Flags {
+            let mut seen = FlagStates {
                 cells: &mut scratch.cells[..n],
                 stamp,
                 nv,
@@ -382,7 +380,7 @@ pub fn space_time_astar(q: &Query, res: &Reservations) -> Search {
         }),
         Some(n) if n <= DENSE_STATES => DENSE.with_borrow_mut(|scratch| {
             let stamp = scratch.begin(n);
-            let mut seen = Seen::Dense {
+            let mut seen = DenseStates {
                 cells: &mut scratch.cells[..n],
                 stamp,
                 nv,
@@ -390,13 +388,18 @@ pub fn space_time_astar(q: &Query, res: &Reservations) -> Search {
             };
             search(q, res, &mut seen, true)
         }),
-        _ => search(q, res, &mut Seen::Hash(FxHashMap::default()), true),
+        _ => search(q, res, &mut HashStates::default(), true),
     }
 }
 
 /// [`space_time_astar`] with its table of seen states; `buckets`: a bucket queue when the
 /// `(f, g)` grid is small (else, and always without, a binary heap: same order).
-fn search(q: &Query, res: &Reservations, seen: &mut Seen, buckets: bool) -> Search {
+fn search<H: Fn(VertexId) -> u32 + ?Sized>(
+    q: &Query<H>,
+    res: &Reservations,
+    seen: &mut impl Seen,
+    buckets: bool,
+) -> Search {
     if !res.vertex_free(q.start, q.start_time) {
         return Search::NotFound;
     }
@@ -672,7 +675,7 @@ pub(crate) fn query<'a>(
 /// search: the tests check that the tables used for speed do not change its answer.
 #[cfg(test)]
 pub(crate) fn space_time_astar_plain(q: &Query, res: &Reservations) -> Search {
-    search(q, res, &mut Seen::Hash(FxHashMap::default()), false)
+    search(q, res, &mut HashStates::default(), false)
 }
 
 #[cfg(test)]
