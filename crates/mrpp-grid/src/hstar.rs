@@ -593,6 +593,7 @@ impl Robots<'_> {
 /// complete in 2-byte form (the searches ask for millions of them).
 fn heuristic<'d>(dist: &'d GoalDistances, i: usize) -> impl Fn(VertexId) -> u32 + 'd {
     let table = dist.narrow(i);
+    #[inline(always)]
     move |v| match table {
         Some(t) => match t[v as usize] {
             u16::MAX => UNREACHABLE,
