@@ -104,6 +104,10 @@ impl Reservations {
     #[inline]
     pub fn next_reserved(&self, v: VertexId, t: u32) -> u32 {
         let list = &self.at[v as usize];
+        // The usual case: no path on `v` from `t` on.
+        if list.last().is_none_or(|&(tt, _)| tt < t) {
+            return self.parked[v as usize].max(t);
+        }
         let i = list.partition_point(|&(tt, _)| tt < t);
         let by_path = list.get(i).map_or(NEVER, |&(tt, _)| tt);
         by_path.min(self.parked[v as usize].max(t))
@@ -115,6 +119,14 @@ impl Reservations {
     pub fn first_free(&self, v: VertexId, t: u32) -> u32 {
         let mut u = t;
         let list = &self.at[v as usize];
+        // The usual case: no path on `v` from `t` on.
+        if list.last().is_none_or(|&(tt, _)| tt < t) {
+            return if t >= self.parked[v as usize] {
+                NEVER
+            } else {
+                t
+            };
+        }
         let mut i = list.partition_point(|&(tt, _)| tt < u);
         while let Some(&(tt, _)) = list.get(i) {
             if tt > u {
