@@ -260,7 +260,9 @@ impl Corridors {
     /// a route with nothing in the way cost one expansion per node on it; the Manhattan distance
     /// also works (any consistent bound gives the same length, since only the length is
     /// returned). Edge costs are cell counts, at least the grid distance they cover, so the
-    /// bound stays consistent on the compressed graph. `scratch` holds the search's tables between
+    /// bound stays consistent on the compressed graph. A walk that keeps stepping one closer by
+    /// `h` (`dive`) answers first when it reaches the goal: no route is shorter.
+    /// `scratch` holds the search's tables between
     /// calls (no allocation per call once it has grown to the map). With the exact bound and a
     /// `limit`, a neighbour that cannot beat the best route so far costs no search at all.
     #[allow(clippy::too_many_arguments)]
@@ -288,6 +290,9 @@ impl Corridors {
         let h0 = h(from);
         if h0 == u32::MAX || h0 > limit {
             return None;
+        }
+        if let Some(len) = self.dive(g, from, goal, avoid, &blocked, &h, h0) {
+            return Some(len);
         }
         scratch.begin(g.num_vertices());
         scratch.improve(from, 0);
@@ -328,6 +333,45 @@ impl Corridors {
             }
         }
         None
+    }
+
+    /// A route of `h0` steps (the least possible) found without a search, if stepping each time
+    /// to the first neighbour one step closer by `h` that the search could enter (not `avoid`,
+    /// and in the current cell's node or in a node that is not blocked) reaches `goal`; `None`
+    /// at a dead end. Most routes of the greedy stage have nothing in the way: one such walk
+    /// replaces the search's expansions and queue. Within a corridor it visits the cells
+    /// [`Corridors::walk`] steps over, so the route is one the search could take.
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    fn dive(
+        &self,
+        g: &Graph,
+        from: VertexId,
+        goal: VertexId,
+        avoid: VertexId,
+        blocked: &impl Fn(NodeId) -> bool,
+        h: &impl Fn(VertexId) -> u32,
+        h0: u32,
+    ) -> Option<u32> {
+        let (mut x, mut hx) = (from, h0);
+        'step: while x != goal {
+            let nx = self.node_of(x);
+            let closer = hx.checked_sub(1)?;
+            for &w in g.neighbors(x) {
+                if w == avoid || h(w) != closer {
+                    continue;
+                }
+                let nw = self.node_of(w);
+                if nw != nx && blocked(nw) {
+                    continue;
+                }
+                (x, hx) = (w, closer);
+                continue 'step;
+            }
+            return None;
+        }
+        // `h` is a lower bound, so no route is shorter than the `h0 - h(goal)` steps taken.
+        Some(h0 - hx)
     }
 
     /// Steps from `u` into `w` and on along `w`'s corridor to its far end, stopping early at the
