@@ -333,7 +333,7 @@ pub fn greedy_path_search(
                 let limit = best.saturating_sub(1);
                 let call = scratch.last_call();
                 let Some(rest) =
-                    corridors.route_length(g, nk, goal, cur, blocked, &h, limit, &mut scratch)
+                    corridors.route_length(g, nk, goal, cur, blocked, h, limit, &mut scratch)
                 else {
                     if best == u32::MAX && scratch.last_call() != call {
                         failed_calls.push(scratch.last_call());
@@ -591,7 +591,7 @@ impl Robots<'_> {
 
 /// Robot `i`'s goal distances as a search heuristic, read straight from its table when that is
 /// complete in 2-byte form (the searches ask for millions of them).
-fn heuristic<'d>(dist: &'d GoalDistances, i: usize) -> impl Fn(VertexId) -> u32 + 'd {
+fn heuristic<'d>(dist: &'d GoalDistances, i: usize) -> impl Fn(VertexId) -> u32 + Copy + 'd {
     let table = dist.narrow(i);
     #[inline(always)]
     move |v| match table {
