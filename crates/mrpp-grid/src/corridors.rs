@@ -261,10 +261,10 @@ impl Corridors {
     /// also works (any consistent bound gives the same length, since only the length is
     /// returned). Edge costs are cell counts, at least the grid distance they cover, so the
     /// bound stays consistent on the compressed graph. A walk that keeps stepping one closer by
-    /// `h` (`dive`) answers first when it reaches the goal: no route is shorter.
-    /// `scratch` holds the search's tables between
-    /// calls (no allocation per call once it has grown to the map). With the exact bound and a
-    /// `limit`, a neighbour that cannot beat the best route so far costs no search at all.
+    /// `h` (`dive`) answers first when it reaches the goal: no route is shorter. `scratch` holds
+    /// the search's tables between calls (no allocation per call once it has grown to the map).
+    /// With the exact bound and a `limit`, a neighbour that cannot beat the best route so far
+    /// costs no search at all.
     #[allow(clippy::too_many_arguments)]
     pub fn route_length(
         &self,

@@ -263,7 +263,7 @@ fn unwind(nodes: &[Node], idx: u32) -> Vec<VertexId> {
 }
 
 #[cfg(test)]
-pub(crate) mod tests {
+mod tests {
     use super::*;
     use crate::mapf::graph::Graph;
     use crate::mapf::search::distance::bfs_distances;
@@ -274,7 +274,7 @@ pub(crate) mod tests {
     /// collide with each other, and a query: start (free at the start time when one of 20 draws
     /// is), goal, start time in 0..4 and time limit in 0..30.
     #[allow(clippy::type_complexity)]
-    pub(crate) fn case() -> impl Strategy<
+    fn case() -> impl Strategy<
         Value = (
             Graph,
             Vec<(Vec<VertexId>, bool)>,

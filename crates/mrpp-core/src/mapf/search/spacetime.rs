@@ -225,13 +225,13 @@ const CLOSED: u32 = 1 << 31;
 const FLAG_CLOSED: u16 = 1 << 15;
 
 /// Dense tables up to this many states (8 bytes each in windowed mode, 32 MiB; 2 bytes in full
-/// mode): they are kept per thread and
-/// never cleared (entries carry the query's stamp), so a query touches only the states it visits;
-/// beyond, a hash map.
+/// mode): they are kept per thread and never cleared (entries carry the query's stamp), so a
+/// query touches only the states it visits; beyond, a hash map.
 const DENSE_STATES: usize = 1 << 22;
 
-/// The least size of a thread's dense table (2 MiB in windowed mode, 512 KiB in full mode): its pages are zeroed lazily, so only the
-/// states a query visits cost memory, and small queries whose spans grow need no new table.
+/// The least size of a thread's dense table (2 MiB in windowed mode, 512 KiB in full mode): its
+/// pages are zeroed lazily, so only the states a query visits cost memory, and small queries
+/// whose spans grow need no new table.
 const DENSE_FIRST: usize = 1 << 18;
 
 /// One thread's dense table, reused by every query on that thread.
@@ -582,8 +582,8 @@ impl Open {
 }
 
 /// A bucket queue over `f` and `g`, both in `0 .. size`: per cell a FIFO of node indices, a
-/// linked list through one arena of entries (`first[c]`/`last[c]` hold an entry's index + 1, 0
-/// when the cell is empty). Within a level of `f` the highest `g` with entries leaves first;
+/// linked list through one arena of entries (`first[c]` and `last[c]` hold an entry's index + 1;
+/// `first[c]` is 0 when the cell is empty, `last[c]` when the search has not used it). Within a level of `f` the highest `g` with entries leaves first;
 /// `top[f]` bounds it from above. `level` is the least `f` that may hold entries (a heuristic
 /// that is not consistent may queue below the level being emptied).
 ///
