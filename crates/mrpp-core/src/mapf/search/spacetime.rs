@@ -801,4 +801,18 @@ mod tests {
         q.window = Some(2);
         assert_eq!(space_time_astar(&q, &res), Search::Found(vec![0, 1, 2]));
     }
+
+    /// The full-mode state table's 15-bit stamps run out after 32,767 queries: the table must
+    /// then be replaced, or an entry left by an early query would read as seen by a late one.
+    #[test]
+    fn the_state_table_never_hands_out_a_stamp_its_cells_hold() {
+        let mut scratch = FlagScratch::default();
+        let first = scratch.begin(100);
+        scratch.cells[7] = first | FLAG_CLOSED; // written once, by the first query only
+        for k in 0..70_000 {
+            let stamp = scratch.begin(100);
+            assert_ne!(scratch.cells[7] & !FLAG_CLOSED, stamp, "query {k}");
+            scratch.cells[3] = stamp; // every query writes here
+        }
+    }
 }
