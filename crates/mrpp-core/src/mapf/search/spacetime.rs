@@ -588,8 +588,8 @@ impl Open {
 /// that is not consistent may queue below the level being emptied).
 ///
 /// The cell tables are allocated zeroed (lazily, by the system) and only the cells a search
-/// used are reset after it, so a search touches only the pages of the cells it uses: the grid
-/// has `size²` cells, of which a search uses a thin band.
+/// used are reset, by the next search's `begin`, so a search touches only the pages of the cells
+/// it uses: the grid has `size²` cells, of which a search uses a thin band.
 #[derive(Default)]
 struct Buckets {
     first: Vec<u32>,
