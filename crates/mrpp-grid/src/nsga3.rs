@@ -60,9 +60,12 @@
 //! 0.1 s on the H* paper's instances in release (98 ms mean on the 30-robot warehouse in the
 //! Table II experiment of 2026-12-02).
 //!
-//! Measured on the 19 Table I instances × seeds 0–9 (190 runs), runs solved with the defaults: 146.
-//! Changing one option: `avoid_other_goals = false` 105; `plain_detour_every` 0: 143, 2: 132;
-//! `max_delay` 10: 127, 20: 134, 30: 139; `generations` 150: 141 (at most 0.25 s), 400: 151 (0.6 s).
+//! Measured on the 19 Table I instances × seeds 0–9 (190 runs), runs solved with the defaults: 146
+//! (mean 51 ms, at most 98 ms). Changing one option: `avoid_other_goals = false` 105;
+//! `plain_detour_every` 0: 143, 2: 132; `max_delay` 10: 127, 20: 134, 30: 139; `generations` 150:
+//! 141 (mean 32 ms, at most 65 ms), 400: 151 (mean 77 ms, at most 143 ms). Each row is `python3
+//! tools/perf/table1-sweep.py target/release/mrpp -p KEY=VALUE` (at `3631a79` plus these options on
+//! the command line, 2026-12-02 08:09 UTC, 2-core AMD EPYC VM, load average 0.8).
 //!
 //! What is left unsolved: the conflicts NSGA-III cannot remove are arrival orders (a robot parked
 //! on its goal in a dead end or in a row of goals blocks a later robot) and head-on meetings in
@@ -101,14 +104,40 @@ pub const NAME: &str = "nsga3";
 pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
     name: NAME,
     about: "NSGA-III over pre-generated routes with start delays (Deb & Jain 2014; H* paper's baseline [22])",
-    params: &[Param {
-        name: "routes_per_robot",
-        default: "8",
-        doc: "randomised routes pre-generated per robot",
-    }],
+    params: &[
+        Param {
+            name: "routes_per_robot",
+            default: "8",
+            doc: "randomised routes pre-generated per robot",
+        },
+        Param {
+            name: "generations",
+            default: "250",
+            doc: "NSGA-III generations after the initial population",
+        },
+        Param {
+            name: "max_delay",
+            default: "40",
+            doc: "largest start delay (waits at the start) a genome may give a robot",
+        },
+        Param {
+            name: "avoid_other_goals",
+            default: "true",
+            doc: "detour routes enter as few other robots' goal cells as possible (true/false)",
+        },
+        Param {
+            name: "plain_detour_every",
+            default: "4",
+            doc: "with avoid_other_goals: every this many detours is built of plain shortest legs (0 = never)",
+        },
+    ],
     build: |p| {
         Ok(Box::new(Nsga3Planner {
             routes_per_robot: p.get_in("routes_per_robot", 1..=1000)?,
+            generations: p.get_in("generations", 0..=1_000_000)?,
+            max_delay: p.get_in("max_delay", 0..=100_000)?,
+            avoid_other_goals: [true, false][p.choice("avoid_other_goals", &["true", "false"])?],
+            plain_detour_every: p.get_in("plain_detour_every", 0..=1000)?,
             ..Nsga3Planner::default()
         }))
     },
