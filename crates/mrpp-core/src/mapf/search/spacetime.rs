@@ -185,33 +185,26 @@ impl Reservations {
 }
 
 /// The best `g` of each `(vertex, time)` state and whether it was expanded: a dense table over
-/// the query's time span when it is small enough (the usual case; [`FlagStates`] in full mode,
-/// [`DenseStates`] in windowed mode), else a hash map. [`space_time_astar`]'s search is compiled
+/// the query's time span when it is small enough (the usual case; [`DenseStates`], in one of
+/// two layouts), else a hash map. [`space_time_astar`]'s search is compiled
 /// once per table, so the lookups inline.
 trait Seen {
     fn get(&self, v: VertexId, t: u32) -> Option<(u32, bool)>;
     fn set(&mut self, v: VertexId, t: u32, g: u32, closed: bool);
 }
 
-/// Windowed mode: `(v, t)` at `(t - t0) * nv + v`, in the calling thread's [`DenseScratch`]: an
-/// entry is `stamp << 32 | x` where `x` is `g + 1` with [`CLOSED`] set once expanded, and an
-/// entry with another stamp (an earlier query's) counts as unseen, so nothing is cleared between
-/// queries.
-struct DenseStates<'s> {
-    cells: &'s mut [u64],
-    stamp: u64,
-    nv: usize,
-    t0: u32,
-}
-
-/// Full mode: every way to `(v, t)` costs `t - t0` (moves and waits cost 1), so a state needs
-/// only whether it was seen and expanded: `(v, t)` at the same index as in [`DenseStates`], in
-/// the calling thread's [`FlagScratch`], an entry being the query's stamp with [`FLAG_CLOSED`]
-/// set once expanded. A quarter of [`DenseStates`]' bytes: a query touches (and a fresh process
-/// faults in) a quarter of the pages.
-struct FlagStates<'s> {
-    cells: &'s mut [u16],
-    stamp: u16,
+/// A dense table over a query's span: `(v, t)` at `(t - t0) * nv + v`, in the calling thread's
+/// [`DenseScratch`]; an entry holding another stamp (an earlier query's) counts as unseen, so
+/// nothing is cleared between queries. Two layouts:
+/// - windowed mode, `u64` entries: `stamp << 32 | x` where `x` is `g + 1` with [`CLOSED`] set
+///   once expanded;
+/// - full mode, `u16` entries: every way to `(v, t)` costs `t - t0` (moves and waits cost 1), so
+///   a state needs only whether it was seen and expanded: the stamp, with [`FLAG_CLOSED`] set
+///   once expanded. A quarter of the bytes: a query touches (and a fresh process faults in) a
+///   quarter of the pages.
+struct DenseStates<'s, T> {
+    cells: &'s mut [T],
+    stamp: u32,
     nv: usize,
     t0: u32,
 }
@@ -221,7 +214,7 @@ type HashStates = FxHashMap<(VertexId, u32), (u32, bool)>;
 
 const CLOSED: u32 = 1 << 31;
 
-/// The expanded mark of a [`FlagStates`] entry; the other 15 bits hold the stamp.
+/// The expanded mark of a full-mode [`DenseStates`] entry; the other 15 bits hold the stamp.
 const FLAG_CLOSED: u16 = 1 << 15;
 
 /// Dense tables up to this many states (8 bytes each in windowed mode, 32 MiB; 2 bytes in full
@@ -234,54 +227,58 @@ const DENSE_STATES: usize = 1 << 22;
 /// whose spans grow need no new table.
 const DENSE_FIRST: usize = 1 << 18;
 
-/// One thread's dense table, reused by every query on that thread.
+/// One thread's dense table, reused by every query on that thread (`u64` entries in windowed
+/// mode, `u16` in full mode: [`DenseStates`]).
 #[derive(Default)]
-struct DenseScratch {
-    cells: Vec<u64>,
+struct DenseScratch<T> {
+    cells: Vec<T>,
     stamp: u32,
 }
 
-/// One thread's table of [`FlagStates`], reused by every full-mode query on that thread.
-#[derive(Default)]
-struct FlagScratch {
-    cells: Vec<u16>,
-    stamp: u16,
-}
-
 thread_local! {
-    static DENSE: std::cell::RefCell<DenseScratch> = std::cell::RefCell::default();
-    static FLAGS: std::cell::RefCell<FlagScratch> = std::cell::RefCell::default();
+    static DENSE: std::cell::RefCell<DenseScratch<u64>> = std::cell::RefCell::default();
+    static FLAGS: std::cell::RefCell<DenseScratch<u16>> = std::cell::RefCell::default();
 }
 
-impl FlagScratch {
-    /// A fresh stamp for a query over `n` states, as [`DenseScratch::begin`] (a new, lazily
-    /// zeroed table when it must grow or the 15-bit stamps run out).
-    fn begin(&mut self, n: usize) -> u16 {
+/// An entry type of [`DenseStates`], and the largest stamp it holds.
+trait Entry: Copy + Default {
+    const LAST_STAMP: u32;
+}
+
+impl Entry for u64 {
+    const LAST_STAMP: u32 = u32::MAX;
+}
+
+/// The top bit is the expanded mark.
+impl Entry for u16 {
+    const LAST_STAMP: u32 = FLAG_CLOSED as u32 - 1;
+}
+
+impl<T: Entry> DenseScratch<T> {
+    /// A fresh stamp for a query over `n` states (a new, lazily zeroed table when it must grow
+    /// or the stamps run out). A table starts at [`DENSE_FIRST`] states and
+    /// grows to a power of two, so that queries whose spans creep up do not each get a new table
+    /// and fault its pages in again.
+    fn begin(&mut self, n: usize) -> u32 {
         debug_assert!(n <= DENSE_STATES);
-        if self.cells.len() < n || self.stamp == FLAG_CLOSED - 1 {
+        if self.cells.len() < n || self.stamp == T::LAST_STAMP {
             let size = n.max(self.cells.len()).max(DENSE_FIRST).next_power_of_two();
-            self.cells = vec![0; size.min(DENSE_STATES)];
+            self.cells = vec![T::default(); size.min(DENSE_STATES)];
             self.stamp = 0;
         }
         self.stamp += 1;
         self.stamp
     }
-}
 
-impl DenseScratch {
-    /// A fresh stamp for a query over `n` states (a new, lazily zeroed table when it must grow
-    /// or the stamps wrap). A table starts at [`DENSE_FIRST`] states and grows to a power of two,
-    /// so that queries whose spans creep up do not each get a new table and fault its pages in
-    /// again.
-    fn begin(&mut self, n: usize) -> u64 {
-        debug_assert!(n <= DENSE_STATES);
-        if self.cells.len() < n || self.stamp == u32::MAX {
-            let size = n.max(self.cells.len()).max(DENSE_FIRST).next_power_of_two();
-            self.cells = vec![0; size.min(DENSE_STATES)];
-            self.stamp = 0;
+    /// The table of a query over `n` states of `nv` vertices from time `t0`, with a fresh stamp.
+    fn states(&mut self, n: usize, nv: usize, t0: u32) -> DenseStates<'_, T> {
+        let stamp = self.begin(n);
+        DenseStates {
+            cells: &mut self.cells[..n],
+            stamp,
+            nv,
+            t0,
         }
-        self.stamp += 1;
-        u64::from(self.stamp)
     }
 }
 
@@ -291,35 +288,35 @@ fn slot(nv: usize, t0: u32, v: VertexId, t: u32) -> usize {
     (t - t0) as usize * nv + v as usize
 }
 
-impl Seen for DenseStates<'_> {
+impl Seen for DenseStates<'_, u64> {
     #[inline]
     fn get(&self, v: VertexId, t: u32) -> Option<(u32, bool)> {
         let c = *self.cells.get(slot(self.nv, self.t0, v, t))?;
         let x = c as u32;
-        (c >> 32 == self.stamp).then(|| ((x & !CLOSED) - 1, x & CLOSED != 0))
+        (c >> 32 == u64::from(self.stamp)).then(|| ((x & !CLOSED) - 1, x & CLOSED != 0))
     }
 
     #[inline]
     fn set(&mut self, v: VertexId, t: u32, g: u32, closed: bool) {
         if let Some(c) = self.cells.get_mut(slot(self.nv, self.t0, v, t)) {
             let x = (g + 1) | if closed { CLOSED } else { 0 };
-            *c = (self.stamp << 32) | u64::from(x);
+            *c = (u64::from(self.stamp) << 32) | u64::from(x);
         }
     }
 }
 
-impl Seen for FlagStates<'_> {
+impl Seen for DenseStates<'_, u16> {
     #[inline]
     fn get(&self, v: VertexId, t: u32) -> Option<(u32, bool)> {
         let c = *self.cells.get(slot(self.nv, self.t0, v, t))?;
-        (c & !FLAG_CLOSED == self.stamp).then_some((t - self.t0, c & FLAG_CLOSED != 0))
+        (u32::from(c & !FLAG_CLOSED) == self.stamp).then_some((t - self.t0, c & FLAG_CLOSED != 0))
     }
 
     #[inline]
     fn set(&mut self, v: VertexId, t: u32, g: u32, closed: bool) {
         debug_assert_eq!(g, t - self.t0, "full mode: the cost of (v, t) is t - t0");
         if let Some(c) = self.cells.get_mut(slot(self.nv, self.t0, v, t)) {
-            *c = self.stamp | if closed { FLAG_CLOSED } else { 0 };
+            *c = self.stamp as u16 | if closed { FLAG_CLOSED } else { 0 };
         }
     }
 }
@@ -381,24 +378,10 @@ pub fn space_time_astar<H: Fn(VertexId) -> u32 + ?Sized>(
     let span = last_time.saturating_sub(q.start_time) as usize + 1;
     match nv.checked_mul(span) {
         Some(n) if n <= DENSE_STATES && q.window.is_none() => FLAGS.with_borrow_mut(|scratch| {
-            let stamp = scratch.begin(n);
-            let mut seen = FlagStates {
-                cells: &mut scratch.cells[..n],
-                stamp,
-                nv,
-                t0: q.start_time,
-            };
-            search(q, res, &mut seen, true)
+            search(q, res, &mut scratch.states(n, nv, q.start_time), true)
         }),
         Some(n) if n <= DENSE_STATES => DENSE.with_borrow_mut(|scratch| {
-            let stamp = scratch.begin(n);
-            let mut seen = DenseStates {
-                cells: &mut scratch.cells[..n],
-                stamp,
-                nv,
-                t0: q.start_time,
-            };
-            search(q, res, &mut seen, true)
+            search(q, res, &mut scratch.states(n, nv, q.start_time), true)
         }),
         _ => search(q, res, &mut HashStates::default(), true),
     }
@@ -806,13 +789,21 @@ mod tests {
     /// then be replaced, or an entry left by an early query would read as seen by a late one.
     #[test]
     fn the_state_table_never_hands_out_a_stamp_its_cells_hold() {
-        let mut scratch = FlagScratch::default();
-        let first = scratch.begin(100);
+        let mut scratch = DenseScratch::<u16>::default();
+        let first = scratch.begin(100) as u16;
         scratch.cells[7] = first | FLAG_CLOSED; // written once, by the first query only
         for k in 0..70_000 {
             let stamp = scratch.begin(100);
-            assert_ne!(scratch.cells[7] & !FLAG_CLOSED, stamp, "query {k}");
-            scratch.cells[3] = stamp; // every query writes here
+            assert!(
+                stamp < u32::from(FLAG_CLOSED),
+                "query {k}: stamp {stamp} hits the mark"
+            );
+            assert_ne!(
+                u32::from(scratch.cells[7] & !FLAG_CLOSED),
+                stamp,
+                "query {k}"
+            );
+            scratch.cells[3] = stamp as u16; // every query writes here
         }
     }
 }
