@@ -35,10 +35,15 @@ def run(binary, planner, map_, scen, out):
                     "--out", out], check=False)
     with open(out) as f:
         e = json.load(f)
-    paths = json.dumps([a.get("path") for a in e.get("agents", [])], separators=(",", ":"))
     m = e.get("metrics") or {}
     return (m.get("sum_of_costs", "-"), m.get("makespan", "-"), e.get("runtime_ms", float("nan")),
-            hashlib.sha256(paths.encode()).hexdigest()[:12])
+            path_hash(e))
+
+
+def path_hash(plan):
+    """First 12 hex digits of the sha256 of a plan file's paths as compact JSON."""
+    paths = json.dumps([a.get("path") for a in plan.get("agents", [])], separators=(",", ":"))
+    return hashlib.sha256(paths.encode()).hexdigest()[:12]
 
 
 def main():

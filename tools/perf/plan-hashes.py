@@ -9,12 +9,14 @@ sum of costs and the first 12 hex digits of the sha256 of the JSON list of paths
 separators), the hash docs/performance.md quotes; with two binaries, whether they agree.
 `tools/perf/hstar-table1.py` does the same for the H* paper's Table I. Standard library only.
 """
-import hashlib
 import json
 import os
 import subprocess
 import sys
 import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+path_hash = __import__("hstar-table1").path_hash
 
 ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..")
 M = os.path.join(ROOT, "data", "movingai")
@@ -29,9 +31,7 @@ def run(binary, planner, k, agents, out):
                     planner, "--out", out], check=False)
     with open(out) as f:
         e = json.load(f)
-    paths = json.dumps([a.get("path") for a in e.get("agents", [])], separators=(",", ":"))
-    soc = (e.get("metrics") or {}).get("sum_of_costs", "-")
-    return soc, hashlib.sha256(paths.encode()).hexdigest()[:12]
+    return (e.get("metrics") or {}).get("sum_of_costs", "-"), path_hash(e)
 
 
 def main():
