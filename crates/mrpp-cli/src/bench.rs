@@ -126,6 +126,15 @@ pub(crate) fn run(args: RunArgs, merge: Option<Mode>) -> Result<u8, Fail> {
         Some(Mode::Merge { manifest, .. }) => SweepConfig::from_recorded(&manifest.config)?,
         _ => args.config()?,
     };
+    // The config and every map and scenario it names are inputs: the output folder may not
+    // hold any of them (checked when the folder is, before any job runs).
+    crate::output::declare_inputs(
+        args.config.iter().map(PathBuf::as_path).chain(
+            cfg.instances
+                .iter()
+                .flat_map(|i| [i.map.as_path(), i.scen.as_path()]),
+        ),
+    );
     let seed = cfg.seed;
     let sweep = GridSweep::new(cfg)?;
     let jobs = args.jobs;

@@ -43,6 +43,8 @@ pub(crate) fn data_dir(
     bundle: &Bundle,
 ) -> Result<(PathBuf, Option<Unpacked>), Fail> {
     if let Some(dir) = given {
+        // An output folder may not be this folder or lie inside it.
+        crate::output::declare_inputs([dir.as_path()]);
         return Ok((dir, None));
     }
     let unpacked = unpack(bundle)?;

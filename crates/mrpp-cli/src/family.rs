@@ -16,9 +16,7 @@ use mrpp_core::mapf::plan_file::RunInfo;
 use mrpp_core::registry::find;
 use mrpp_core::{Ctx, Deadline, Params, PlannerEntry, Problem, Solved, Unsolved, solve};
 
-use crate::output::{
-    Fail, check_output, detail, metrics_object, out, pairs, say, time_limit, write_atomic,
-};
+use crate::output::{Fail, detail, metrics_object, out, pairs, say, time_limit, write_atomic};
 use crate::progress;
 
 /// Every family the binary knows, in the order `mrpp planners` lists them.
@@ -85,6 +83,37 @@ impl Inputs {
         .into_iter()
         .filter_map(|p| p.as_deref())
         .collect()
+    }
+
+    /// Every file these inputs read: the files named, and the files they refer to (a League of
+    /// Robot Runners problem's map, agents and tasks; a formation file's polygon map), resolved
+    /// as their loaders resolve them. A file whose references cannot be read yet adds none (its
+    /// load fails before anything is written). Declared before any work so that no output
+    /// replaces any of them ([`crate::output::declare_inputs`]).
+    pub(crate) fn read_set(&self) -> Vec<PathBuf> {
+        let mut files: Vec<PathBuf> = self.paths().into_iter().map(Path::to_path_buf).collect();
+        if let Some(lorr) = &self.lorr {
+            files.extend(mrpp_grid::lorr::referenced_files(lorr).unwrap_or_default());
+        }
+        if let Some(formation) = &self.formation
+            && let Ok(map) = mrpp_formation::world::FormationFile::map_of(formation)
+        {
+            files.push(map);
+        }
+        files
+    }
+
+    /// [`crate::output::guard`] with [`Self::read_set`] and `more` (a plan file, a program) as
+    /// the command's inputs.
+    pub(crate) fn guard(&self, more: &[&Path], outs: &[&Path]) -> Result<(), Fail> {
+        let files = self.read_set();
+        crate::output::guard(
+            files
+                .iter()
+                .map(PathBuf::as_path)
+                .chain(more.iter().copied()),
+            outs,
+        )
     }
 
     /// The files given, as `--flag path` pairs (for `-v`).
@@ -402,21 +431,25 @@ fn run_planner<P: Problem + 'static>(
 /// The generic `solve`: one [`run_planner`], print the summary, write the plan file, exit 0
 /// solved, 3 not solved; an invalid plan (a bug) is an error (exit 1) and nothing is written.
 fn solve_with<P: Problem + 'static>(def: &Def<P>, req: &SolveRequest) -> Result<u8, Fail> {
-    let mut inputs = req.inputs.paths();
     // A saved program run by GP (`-p program=FILE`) is an input too.
-    inputs.extend(
-        req.params
-            .iter()
-            .filter(|(k, _)| k == "program")
-            .map(|(_, v)| Path::new(v.as_str())),
-    );
+    let programs: Vec<&Path> = req
+        .params
+        .iter()
+        .filter(|(k, _)| k == "program")
+        .map(|(_, v)| Path::new(v.as_str()))
+        .collect();
     if req.format == Format::Lacam && req.out.is_none() {
         return Err(Fail(
             "--format lacam writes a file: give --out FILE (or --out - for stdout)".into(),
         ));
     }
-    for out in [&req.out, &req.save_program].into_iter().flatten() {
-        check_output(out, &inputs)?;
+    let outs: Vec<&Path> = [&req.out, &req.save_program]
+        .into_iter()
+        .flatten()
+        .map(PathBuf::as_path)
+        .collect();
+    req.inputs.guard(&programs, &outs)?;
+    for out in outs {
         if out.as_os_str() == "-" || out.as_os_str() == "/dev/stdout" {
             // stdout carries the file alone: no summaries around it.
             crate::output::set_verbosity(true, 0);

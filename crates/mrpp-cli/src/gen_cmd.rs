@@ -11,7 +11,7 @@ use mrpp_formation::CostModel;
 use mrpp_formation::polymap::PolygonMap;
 use mrpp_formation::world::{Formation, FormationFile, random_pair};
 
-use crate::output::{Fail, check_output, file_name, say, write_atomic};
+use crate::output::{Fail, file_name, guard, say, write_atomic};
 
 #[derive(clap::Subcommand)]
 pub(crate) enum Gen {
@@ -123,7 +123,7 @@ pub(crate) fn run(cmd: Gen) -> Result<u8, Fail> {
             seed,
             out,
         } => {
-            check_output(&out, &[&map])?;
+            guard([map.as_path()], &[&out])?;
             let grid = mrpp_grid::GridMap::load(&map)?;
             let inst = mrpp_grid::scen::random_instance(&grid, agents, seed)
                 .map_err(|e| Fail(format!("{}: {e}", map.display())))?;
@@ -146,7 +146,7 @@ pub(crate) fn run(cmd: Gen) -> Result<u8, Fail> {
             seed,
             out,
         } => {
-            check_output(&out, &[])?;
+            guard([], &[&out])?;
             let text = mrpp_grid::scen::random_map_text(width, height, obstacles, seed)
                 .map_err(|e| Fail(format!("gen map: {e}")))?;
             write_atomic(&out, text)?;
@@ -168,7 +168,7 @@ pub(crate) fn run(cmd: Gen) -> Result<u8, Fail> {
             out,
         } => continuous(&kind, robots, obstacles, seed, (ring, radius, speed), &out),
         Gen::PolygonMap { kind, seed, out } => {
-            check_output(&out, &[])?;
+            guard([], &[&out])?;
             let text = mrpp_formation::generator::generate(&kind, seed).map_err(Fail)?;
             write_atomic(&out, &text)?;
             say!(
@@ -187,7 +187,7 @@ pub(crate) fn run(cmd: Gen) -> Result<u8, Fail> {
             kappa,
             out,
         } => {
-            check_output(&out, &[&map])?;
+            guard([map.as_path()], &[&out])?;
             let cost = match cost.as_str() {
                 "lanes" => CostModel::Lanes { kappa },
                 "waves" => CostModel::Waves,
@@ -254,7 +254,7 @@ fn continuous(
     out: &std::path::Path,
 ) -> Result<u8, Fail> {
     use mrpp_continuous::generator::{circle_world, random_world};
-    check_output(out, &[])?;
+    guard([], &[out])?;
     if !(1..=1000).contains(&robots) {
         return Err(Fail(format!("--robots must be 1 to 1000, got {robots}")));
     }
@@ -314,10 +314,8 @@ pub(crate) fn convert(
     out_map: &std::path::Path,
     out_scen: Option<&std::path::Path>,
 ) -> Result<u8, Fail> {
-    let inputs: Vec<&std::path::Path> = std::iter::once(map).chain(scen).collect();
-    for out in std::iter::once(out_map).chain(out_scen) {
-        check_output(out, &inputs)?;
-    }
+    let outs: Vec<&std::path::Path> = std::iter::once(out_map).chain(out_scen).collect();
+    guard(std::iter::once(map).chain(scen), &outs)?;
     if out_scen.is_some() != scen.is_some() {
         return Err(Fail(
             "convert: --out-scen and --scen go together (the agents to write and where)".into(),

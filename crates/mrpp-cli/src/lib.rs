@@ -321,6 +321,8 @@ fn run(command: Command) -> Result<u8, Fail> {
 
 /// `mrpp bench merge`: rebuilds the sweep from the command its parts recorded, then joins them.
 fn merge(out: PathBuf, parts: Vec<PathBuf>) -> Result<u8, Fail> {
+    // The parts are inputs: the merged folder may not be one of them or hold one.
+    output::declare_inputs(parts.iter().map(PathBuf::as_path));
     let manifest = mrpp_bench::harness::merged_manifest(&parts)?;
     let argv = std::iter::once("mrpp".to_string()).chain(manifest.sweep_command());
     let cli = Cli::try_parse_from(argv)

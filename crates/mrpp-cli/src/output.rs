@@ -88,6 +88,9 @@ pub(crate) fn seconds(flag: &str, value: f64) -> Result<Duration, Fail> {
 /// - a symbolic link: through to the file it names (the link stays);
 /// - otherwise through a temporary file in the same folder renamed over `path`, so a reader
 ///   never sees half a file and an interrupted write leaves the old file.
+///
+/// A file this command read (or declared it would read) is never written: the check of
+/// [`check_output`] is made again here, after the work, for every file written.
 pub(crate) fn write_atomic(path: &Path, contents: impl AsRef<[u8]>) -> Result<(), Fail> {
     use std::io::Write as _;
     let cannot = |e: std::io::Error| Fail(format!("{}: cannot write: {e}", path.display()));
@@ -100,6 +103,11 @@ pub(crate) fn write_atomic(path: &Path, contents: impl AsRef<[u8]>) -> Result<()
     }
     if std::fs::metadata(path).is_ok_and(|m| m.is_dir()) {
         return Err(Fail(format!("{}: is a folder, not a file", path.display())));
+    }
+    if !in_place(path)
+        && let Some(why) = harms_an_input(path)
+    {
+        return Err(Fail(why));
     }
     if in_place(path) {
         // Truncated when it is a regular file behind `/dev/stdout` (a shell redirection).
@@ -143,20 +151,89 @@ fn in_place(path: &Path) -> bool {
         || std::fs::metadata(path).is_ok_and(|m| !m.is_file() && !m.is_dir())
 }
 
-/// Checks, before any work, that `out` can be written and is none of `inputs`: a path to one of
-/// the inputs (the same file, however named) is refused, as are a missing or read-only folder,
-/// a folder given as a file, and a special file that cannot be opened for writing. `-` (stdout)
-/// and FIFOs pass without a probe (opening a FIFO would wait for a reader).
-pub(crate) fn check_output(out: &Path, inputs: &[&Path]) -> Result<(), Fail> {
+/// Notes `paths` (files or folders) as inputs of this command before it reads them, with the
+/// files they refer to when the caller lists those too (a League of Robot Runners problem's map,
+/// agents and tasks, a formation file's polygon map: see [`crate::family::Inputs::read_set`]).
+/// Every file read later through `mrpp_core::error::read_file` is added by the library itself
+/// ([`mrpp_core::files_read`]). [`check_output`], [`check_output_folder`] and [`write_atomic`]
+/// refuse all of them: the one rule every verb's outputs follow.
+pub(crate) fn declare_inputs<'a>(paths: impl IntoIterator<Item = &'a Path>) {
+    mrpp_core::files_read::start_recording();
+    for p in paths {
+        mrpp_core::files_read::note(p);
+    }
+}
+
+/// The one guard of every verb's outputs, called before any work: declares `inputs` (files or
+/// folders, with the files they refer to; see [`declare_inputs`]) and checks each of `outs` as a
+/// file ([`check_output`]).
+pub(crate) fn guard<'a>(
+    inputs: impl IntoIterator<Item = &'a Path>,
+    outs: &[&Path],
+) -> Result<(), Fail> {
+    declare_inputs(inputs);
+    outs.iter().try_for_each(|o| check_output(o))
+}
+
+/// The input that writing `out` would harm, as a message: the same file as an input (however it
+/// is named: relative paths, `..`, symbolic and hard links), or a file inside an input folder.
+fn harms_an_input(out: &Path) -> Option<String> {
+    if let Some(input) = mrpp_core::files_read::find(out) {
+        return Some(format!(
+            "{}: the output would overwrite the input {}; choose another output",
+            out.display(),
+            input.display()
+        ));
+    }
+    let target = resolved(out);
+    mrpp_core::files_read::inputs()
+        .into_iter()
+        .filter(|(_, folder)| *folder)
+        .find(|(dir, _)| std::fs::canonicalize(dir).is_ok_and(|d| target.starts_with(d)))
+        .map(|(dir, _)| {
+            format!(
+                "{}: the output would be written inside the input folder {}; choose another output",
+                out.display(),
+                dir.display()
+            )
+        })
+}
+
+/// `path` with its longest existing prefix canonicalised (symbolic links and `..` resolved) and
+/// the rest appended as given: where a file or folder not made yet would go.
+fn resolved(path: &Path) -> std::path::PathBuf {
+    let mut rest = Vec::new();
+    let mut head = path;
+    loop {
+        if let Ok(c) = std::fs::canonicalize(if head.as_os_str().is_empty() {
+            Path::new(".")
+        } else {
+            head
+        }) {
+            return rest.iter().rev().fold(c, |acc, part| acc.join(part));
+        }
+        match (head.parent(), head.file_name()) {
+            (Some(parent), Some(name)) => {
+                rest.push(name.to_os_string());
+                head = parent;
+            }
+            _ => return path.to_path_buf(),
+        }
+    }
+}
+
+/// Checks, before any work, that `out` can be written and harms no input of the command (see
+/// [`declare_inputs`]): an input file, however it is named, is refused, as are a missing or
+/// read-only folder, a folder given as a file, and a special file that cannot be opened for
+/// writing. `-` (stdout) and FIFOs pass without a probe (opening a FIFO would wait for a reader).
+pub(crate) fn check_output(out: &Path) -> Result<(), Fail> {
     if out.as_os_str() == "-" {
         return Ok(());
     }
-    if let Some(input) = inputs.iter().find(|i| same_file(out, i)) {
-        return Err(Fail(format!(
-            "{}: the output would overwrite the input {}; choose another --out",
-            out.display(),
-            input.display()
-        )));
+    if !in_place(out)
+        && let Some(why) = harms_an_input(out)
+    {
+        return Err(Fail(why));
     }
     if in_place(out) {
         #[cfg(unix)]
@@ -199,13 +276,34 @@ pub(crate) fn check_output(out: &Path, inputs: &[&Path]) -> Result<(), Fail> {
     })
 }
 
-/// Checks, before any work, that the output folder `dir` exists or can be made, and that files
-/// can be written in it.
+/// Checks, before any work, that the output folder `dir` exists or can be made, that files can
+/// be written in it, and that it harms no input (see [`declare_inputs`]): it may not be an input
+/// folder or lie inside one (an experiment's `--data`), and may not hold an input file or folder.
 pub(crate) fn check_output_folder(dir: &Path) -> Result<(), Fail> {
     let fail =
         |e: std::io::Error| Fail(format!("{}: cannot write output here: {e}", dir.display()));
     if dir.exists() && !dir.is_dir() {
         return Err(Fail(format!("{}: is a file, not a folder", dir.display())));
+    }
+    let target = resolved(dir);
+    for (input, folder) in mrpp_core::files_read::inputs() {
+        let Ok(at) = std::fs::canonicalize(&input) else {
+            continue;
+        };
+        if folder && target.starts_with(&at) {
+            return Err(Fail(format!(
+                "{}: the output folder is (inside) the input folder {}; choose another output folder",
+                dir.display(),
+                input.display()
+            )));
+        }
+        if at.starts_with(&target) {
+            return Err(Fail(format!(
+                "{}: the output folder holds the input {}; choose another output folder",
+                dir.display(),
+                input.display()
+            )));
+        }
     }
     std::fs::create_dir_all(dir).map_err(fail)?;
     probe_folder(dir).map_err(fail)
@@ -275,20 +373,6 @@ pub(crate) fn parse_seed(s: &str) -> Result<u64, String> {
         Err(_) => Err(format!(
             "must be a whole number from 0 to 2^64 - 1, got `{s}`"
         )),
-    }
-}
-
-/// Whether `a` and `b` name the same existing file (device and inode on Unix).
-fn same_file(a: &Path, b: &Path) -> bool {
-    match (std::fs::metadata(a), std::fs::metadata(b)) {
-        #[cfg(unix)]
-        (Ok(x), Ok(y)) => {
-            use std::os::unix::fs::MetadataExt as _;
-            x.dev() == y.dev() && x.ino() == y.ino()
-        }
-        #[cfg(not(unix))]
-        (Ok(_), Ok(_)) => std::fs::canonicalize(a).ok() == std::fs::canonicalize(b).ok(),
-        _ => false,
     }
 }
 

@@ -54,6 +54,7 @@ pub(crate) fn drive<S: Sweep>(
             manifest,
             out,
         } => {
+            check_output_folder(out)?;
             let rows = merge_parts(sweep, parts)?;
             say!(
                 "mrpp {} | merged {} jobs of {} from {} folder(s)",

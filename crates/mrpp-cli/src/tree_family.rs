@@ -13,7 +13,7 @@ use mrpp_trees::plan_json::{read_tree_plan, tree_envelope};
 use mrpp_trees::{ProblemSpec, RobotCount, TreeInstance, generate_problem, tree_problem};
 
 use crate::family::{Def, Format, Inputs, Loaded, ReadPlan, SolveRequest};
-use crate::output::{Fail, check_output, file_name, say, write_atomic};
+use crate::output::{Fail, file_name, guard, say, write_atomic};
 
 /// Largest depth budget `trees gen` accepts (the paper uses 4–10).
 const MAX_DEPTH: u32 = 30;
@@ -405,7 +405,7 @@ fn cmd_gen(
     leaf_multiplier: Option<f64>,
     out: &Path,
 ) -> Result<u8, Fail> {
-    check_output(out, &[])?;
+    guard([], &[out])?;
     let GenSize {
         depth,
         branching,

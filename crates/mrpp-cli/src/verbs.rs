@@ -4,7 +4,7 @@
 use std::path::Path;
 
 use crate::family::{Inputs, SolveRequest, family_of_inputs, family_of_planner};
-use crate::output::{Fail, check_output, say, write_atomic};
+use crate::output::{Fail, say, write_atomic};
 
 /// `mrpp solve`: plans, exit 0 solved (a valid plan), 3 not solved, 1 bad input or an invalid
 /// plan (a bug).
@@ -42,9 +42,7 @@ pub(crate) fn render(inputs: &Inputs, plan: &Path, out: &Path, gif: bool) -> Res
             out.display()
         )));
     }
-    let mut sources = inputs.paths();
-    sources.push(plan);
-    check_output(out, &sources)?;
+    inputs.guard(&[plan], &[out])?;
     let family = family_of_inputs(inputs)?;
     match ext.as_str() {
         "svg" => write_atomic(out, &family.render(inputs, plan)?)?,

@@ -23,7 +23,7 @@ use std::net::TcpListener;
 use std::path::{Path, PathBuf};
 
 use crate::family::{Inputs, family_of_inputs};
-use crate::output::{Fail, check_output, out, say, write_atomic};
+use crate::output::{Fail, out, say, write_atomic};
 
 /// The page, with `__MRPP_SCENE__` where the scene goes.
 const PAGE: &str = include_str!("../assets/view.html");
@@ -46,9 +46,7 @@ pub(crate) fn view(
 ) -> Result<u8, Fail> {
     let out = (!serve || out.is_some()).then(|| out.unwrap_or_else(|| plan.with_extension("html")));
     if let Some(out) = &out {
-        let mut sources = inputs.paths();
-        sources.push(plan);
-        check_output(out, &sources)?;
+        inputs.guard(&[plan], &[out])?;
     }
     let scene = family_of_inputs(inputs)?.scene(inputs, plan)?;
     let html = page(&scene);

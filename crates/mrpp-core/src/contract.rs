@@ -96,6 +96,16 @@ pub trait Problem: Send + Sync {
     fn num_agents(&self) -> usize;
     /// The one judge of plans: the metrics of a valid plan, or the first rule it breaks.
     fn validate(&self, plan: &Self::Plan) -> Result<Self::Metrics, Self::Violation>;
+    /// The rules every instance of this problem obeys before any planner sees it (e.g. distinct
+    /// starts and goals on the graph): an instance that breaks one is one the validator would
+    /// refuse at t = 0. Readers enforce them and name the file and line; debug builds assert them
+    /// at [`solve`]'s entry. Default: no rules beyond the type.
+    ///
+    /// # Errors
+    /// The first rule broken, in the problem's own terms.
+    fn instance_rules(&self) -> Result<(), String> {
+        Ok(())
+    }
     /// Puts a plan in canonical form before it is validated and returned (default: as is), e.g.
     /// drops trailing waits that carry no information.
     fn canonical(&self, plan: Self::Plan) -> Self::Plan {
@@ -195,6 +205,11 @@ pub fn solve<P: Problem>(
     problem: &P,
     ctx: &Ctx,
 ) -> Result<Solved<P>, Unsolved> {
+    debug_assert_eq!(
+        problem.instance_rules(),
+        Ok(()),
+        "a reader let through an instance that breaks the rules"
+    );
     let started = Instant::now();
     let plan = planner.plan(problem, ctx)?;
     accept(problem, plan, planner.name(), started.elapsed())

@@ -51,12 +51,14 @@ impl Error {
 }
 
 /// Reads a whole file as UTF-8 text, naming it in the error; a leading byte-order mark (which
-/// some editors write) is dropped, so every parser reads such files like any other.
+/// some editors write) is dropped, so every parser reads such files like any other. The file is
+/// noted in [`crate::files_read`] (when recording is on), so no output of the process replaces it.
 pub fn read_file(path: &std::path::Path) -> Result<String> {
     let bytes = std::fs::read(path).map_err(|source| Error::Io {
         path: path.to_path_buf(),
         source,
     })?;
+    crate::files_read::note(path);
     let mut text = String::from_utf8(bytes)
         .map_err(|e| Error::invalid(path, format!("not UTF-8 text ({e})")))?;
     if text.starts_with('\u{feff}') {

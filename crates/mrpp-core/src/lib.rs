@@ -10,7 +10,7 @@
 //! - [`mapf`]: graph (CSR), instance, [`Rules`] (goal semantics, following), plan, validator,
 //!   metrics and the shared searches (BFS tables, space-time A*).
 //! - [`seeds`]: per-job seed derivation; [`picture`]: the agents' colours and waits of every picture;
-//!   [`error`]: typed errors.
+//!   [`error`]: typed errors; [`files_read`]: the files a process read (outputs refuse them).
 //!
 //! No family, no file format of another tool and no geometry dependency lives here. The library
 //! never prints and never exits.
@@ -18,6 +18,7 @@
 pub mod contract;
 pub mod envelope;
 pub mod error;
+pub mod files_read;
 pub mod mapf;
 pub mod picture;
 pub mod registry;

@@ -71,6 +71,21 @@ impl FormationFile {
         }
         Ok(file)
     }
+
+    /// The polygon map the formation file at `path` names, resolved against the file's folder
+    /// as [`Formation::load`] resolves it (so that outputs can refuse to overwrite it).
+    ///
+    /// # Errors
+    /// As [`FormationFile::parse`], and an unreadable file.
+    pub fn map_of(path: &Path) -> Result<PathBuf> {
+        let file = FormationFile::parse(&read_file(path)?, path)?;
+        Ok(map_beside(path, &file.map))
+    }
+}
+
+/// A map named `map` in the formation file at `path`: relative to the file's folder.
+fn map_beside(path: &Path, map: &Path) -> PathBuf {
+    path.parent().unwrap_or(Path::new("")).join(map)
 }
 
 /// A loaded formation: the map, the problem on its roadmap, and the roadmap build time.
@@ -90,7 +105,7 @@ impl Formation {
     /// point outside the free space or seeing no roadmap vertex.
     pub fn load(path: &Path) -> Result<Self> {
         let mut file = FormationFile::parse(&read_file(path)?, path)?;
-        file.map = path.parent().unwrap_or(Path::new("")).join(&file.map);
+        file.map = map_beside(path, &file.map);
         let map = PolygonMap::load(&file.map)?;
         Self::on(file, map, path)
     }

@@ -8,6 +8,7 @@ pub mod coevolution;
 pub mod cooperative;
 pub mod corridors;
 pub mod hstar;
+pub mod instance_rules;
 pub mod io;
 pub mod lacam;
 pub mod lns;

@@ -29,6 +29,7 @@ use mrpp_core::error::{Error, Result, read_file};
 use mrpp_core::mapf::graph::VertexId;
 use mrpp_core::mapf::instance::Instance;
 
+use crate::instance_rules::{Spot, checked_instance};
 use crate::map::GridMap;
 
 /// A League of Robot Runners problem, read from its JSON and the three files it names.
@@ -77,16 +78,7 @@ pub fn parse_with(
             format!("not a League of Robot Runners problem JSON: {e}"),
         )
     })?;
-    let dir = path.parent().unwrap_or(Path::new("."));
-    let file = |key: &str| -> Result<PathBuf> {
-        json.get(key)
-            .and_then(Value::as_str)
-            .map(|f| dir.join(f))
-            .ok_or_else(|| Error::invalid(path, format!("no `{key}` (a file name) in the problem")))
-    };
-    let map_path = file("mapFile")?;
-    let agent_path = file("agentFile")?;
-    let task_path = file("taskFile")?;
+    let [map_path, agent_path, task_path] = named_files(&json, path)?;
     let team = json
         .get("teamSize")
         .and_then(Value::as_u64)
@@ -130,34 +122,85 @@ pub fn parse_with(
             ),
         ));
     }
+    // Each start's location and the line it was read from.
     let mut starts = Vec::with_capacity(team);
     for (no, line) in &agent_lines[..team] {
-        starts.push(vertex(int(line, &agent_path, *no)?, &agent_path, *no)?);
+        let loc = int(line, &agent_path, *no)?;
+        vertex(loc, &agent_path, *no)?;
+        starts.push((loc, *no));
     }
     let mut tasks = Vec::new();
+    let mut task_lines = Vec::new();
     for (no, line) in counted_lines(&read(&task_path)?, &task_path)? {
         let errands = line
             .split(',')
             .map(|f| vertex(int(f, &task_path, no)?, &task_path, no))
             .collect::<Result<Vec<_>>>()?;
         tasks.push(errands);
+        task_lines.push(no);
     }
 
-    let (goals, assigned, skipped_tasks) = first_tasks(&tasks, team).ok_or_else(|| {
+    let (_, assigned, skipped_tasks) = first_tasks(&tasks, team).ok_or_else(|| {
         Error::invalid(
             &task_path,
             format!("{team} agents need {team} tasks with distinct first errands"),
         )
     })?;
+    // The grid instance rules, checked where every grid reader checks them.
+    let w = i64::from(map.width());
+    let agents: Vec<(Spot<'_>, Spot<'_>)> = starts
+        .iter()
+        .zip(&assigned)
+        .map(|(&(loc, line), &task)| {
+            let (gx, gy) = map.cell(tasks[task][0]);
+            (
+                Spot {
+                    cell: (loc % w, loc / w),
+                    file: agent_path.as_path(),
+                    line,
+                },
+                Spot {
+                    cell: (i64::from(gx), i64::from(gy)),
+                    file: task_path.as_path(),
+                    line: task_lines[task],
+                },
+            )
+        })
+        .collect();
+    let instance = checked_instance(&map, &agents)?;
     Ok(LorrProblem {
         map_path,
         map,
-        instance: Instance { starts, goals },
+        instance,
         tasks,
         assigned,
         skipped_tasks,
         version,
     })
+}
+
+/// The map, agent and task files a LoRR problem JSON at `path` names, resolved against its
+/// folder as [`load`] resolves them (so that outputs can refuse to overwrite them).
+///
+/// # Errors
+/// The JSON cannot be read or parsed, or names no such file.
+pub fn referenced_files(path: &Path) -> Result<Vec<PathBuf>> {
+    let text = read_file(path)?;
+    let json: Value = serde_json::from_str(&text)
+        .map_err(|e| Error::parse(path, e.line(), format!("not JSON: {e}")))?;
+    Ok(named_files(&json, path)?.to_vec())
+}
+
+/// `[mapFile, agentFile, taskFile]` of a problem JSON, each joined to the JSON's folder.
+fn named_files(json: &Value, path: &Path) -> Result<[PathBuf; 3]> {
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let file = |key: &str| -> Result<PathBuf> {
+        json.get(key)
+            .and_then(Value::as_str)
+            .map(|f| dir.join(f))
+            .ok_or_else(|| Error::invalid(path, format!("no `{key}` (a file name) in the problem")))
+    };
+    Ok([file("mapFile")?, file("agentFile")?, file("taskFile")?])
 }
 
 /// Hands tasks out in file order (module doc): `(goals, task index per agent, tasks skipped)`,
@@ -329,6 +372,14 @@ mod tests {
             team.contains("`teamSize` is 3 but the file has only 2 agents"),
             "{team}"
         );
+        // Two robots on one start cell: named like the other grid readers name it.
+        std::fs::write(dir.join("a.agents"), "# 2026 comment\n2\n4\n4\n").unwrap();
+        let twice = problem(2, "2\n3\n5\n").unwrap_err();
+        assert!(
+            twice.ends_with("a.agents:4: start (1,1) is also the start on line 3"),
+            "{twice}"
+        );
+        std::fs::write(dir.join("a.agents"), "2\n0\n1\n").unwrap();
         let same = problem(2, "2\n3\n3\n").unwrap_err();
         assert!(
             same.contains("2 agents need 2 tasks with distinct first errands"),

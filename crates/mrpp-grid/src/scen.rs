@@ -1,16 +1,15 @@
 //! Agents of grid instances: they come from MovingAI `.scen` files (the first N lines are agents 0..N) or from the
 //! H* paper's robot files (`x,y;x,y` per line, `#` comments); the format is detected from the
-//! content. Every cell is checked against the map, and two agents may share neither a start nor a
-//! goal.
+//! content. The instance rules (cells on the map and free, distinct starts, distinct goals) are
+//! [`crate::instance_rules`]'s, as for every grid reader.
 
 use std::path::Path;
-
-use rustc_hash::FxHashMap;
 
 use mrpp_core::error::{Error, Result, read_file};
 use mrpp_core::mapf::graph::VertexId;
 use mrpp_core::mapf::instance::Instance;
 
+use crate::instance_rules::{Spot, checked_instance};
 use crate::map::GridMap;
 
 /// Reads a `.scen` or robot file for `map`, keeping the first `agents` entries (all when `None`).
@@ -54,46 +53,18 @@ pub fn parse_agents(
         Some(n) => n,
         None => entries.len(),
     };
-    let mut starts = Vec::with_capacity(n);
-    let mut goals = Vec::with_capacity(n);
-    let mut start_line: FxHashMap<VertexId, usize> = FxHashMap::default();
-    let mut goal_line: FxHashMap<VertexId, usize> = FxHashMap::default();
-    for e in &entries[..n] {
-        let cell = |(x, y): (i64, i64), what: &str| {
-            map.vertex_at(x, y).ok_or_else(|| {
-                Error::parse(
-                    path,
-                    e.line,
-                    format!("{what} {}", map.cell_problem(x, y).unwrap_or_default()),
-                )
-            })
-        };
-        let s = cell(e.start, "start")?;
-        let g = cell(e.goal, "goal")?;
-        if let Some(prev) = start_line.insert(s, e.line) {
-            return Err(Error::parse(
-                path,
-                e.line,
-                format!(
-                    "start ({},{}) is also the start on line {prev}",
-                    e.start.0, e.start.1
-                ),
-            ));
-        }
-        if let Some(prev) = goal_line.insert(g, e.line) {
-            return Err(Error::parse(
-                path,
-                e.line,
-                format!(
-                    "goal ({},{}) is also the goal on line {prev}",
-                    e.goal.0, e.goal.1
-                ),
-            ));
-        }
-        starts.push(s);
-        goals.push(g);
-    }
-    Ok(Instance { starts, goals })
+    let agents: Vec<(Spot<'_>, Spot<'_>)> = entries[..n]
+        .iter()
+        .map(|e| {
+            let at = |cell| Spot {
+                cell,
+                file: path,
+                line: e.line,
+            };
+            (at(e.start), at(e.goal))
+        })
+        .collect();
+    checked_instance(map, &agents)
 }
 
 struct Entry {

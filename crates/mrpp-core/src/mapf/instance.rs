@@ -16,10 +16,24 @@ pub struct Instance {
 impl Instance {
     /// Checks lengths and uniqueness; used by every constructor and by generated instances.
     pub fn new(starts: Vec<VertexId>, goals: Vec<VertexId>) -> std::result::Result<Self, String> {
-        if starts.len() != goals.len() {
-            return Err(format!("{} starts but {} goals", starts.len(), goals.len()));
+        let inst = Instance { starts, goals };
+        inst.check()?;
+        Ok(inst)
+    }
+
+    /// Equal numbers of starts and goals, no two agents on one start, none sharing a goal.
+    ///
+    /// # Errors
+    /// The first rule broken, naming the agents (0-based).
+    pub fn check(&self) -> std::result::Result<(), String> {
+        if self.starts.len() != self.goals.len() {
+            return Err(format!(
+                "{} starts but {} goals",
+                self.starts.len(),
+                self.goals.len()
+            ));
         }
-        for (what, list) in [("start", &starts), ("goal", &goals)] {
+        for (what, list) in [("start", &self.starts), ("goal", &self.goals)] {
             let mut seen = FxHashMap::default();
             for (i, &v) in list.iter().enumerate() {
                 if let Some(j) = seen.insert(v, i) {
@@ -27,7 +41,7 @@ impl Instance {
                 }
             }
         }
-        Ok(Instance { starts, goals })
+        Ok(())
     }
 
     pub fn num_agents(&self) -> usize {

@@ -93,6 +93,11 @@ impl Problem for MapfProblem {
         self.instance.num_agents()
     }
 
+    /// Distinct starts, distinct goals (vertices of the graph by construction).
+    fn instance_rules(&self) -> Result<(), String> {
+        self.instance.check()
+    }
+
     fn validate(&self, plan: &Plan) -> Result<Metrics, MapfViolation> {
         plan::judge(&self.graph, &self.instance, self.rules, plan).map_err(|violation| {
             MapfViolation {
