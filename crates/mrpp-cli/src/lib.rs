@@ -53,6 +53,10 @@ struct Cli {
     /// (`solve`), the claims checked (`validate`), one line per finished job (sweeps).
     #[arg(short, long, global = true, action = clap::ArgAction::Count)]
     verbose: u8,
+    /// Heap memory every planner may use, in MB (default: three quarters of the machine's
+    /// memory). A planner that reaches it stops as at its time limit: exit 3, "memory limit".
+    #[arg(long, global = true, value_name = "MB", allow_negative_numbers = true, value_parser = output::parse_count)]
+    memory_limit: Option<usize>,
 }
 
 #[derive(Subcommand)]
@@ -267,6 +271,10 @@ pub fn main() -> ExitCode {
         }
     };
     output::set_verbosity(cli.quiet, cli.verbose);
+    mrpp_core::memory::set_limit(match cli.memory_limit {
+        Some(mb) => Some(mb.saturating_mul(1 << 20)),
+        None => mrpp_core::memory::default_limit(),
+    });
     match run(cli.command) {
         Ok(code) => ExitCode::from(code),
         Err(Fail(msg)) => {

@@ -36,7 +36,7 @@ fn planners_emit_only_valid_plans_on_random_worlds() {
                             "{why}"
                         )
                     }
-                    Err(Unsolved::TimeLimit) => panic!("no time limit was set"),
+                    Err(Unsolved::TimeLimit | Unsolved::MemoryLimit) => panic!("no limit was set"),
                 }
             }
         }

@@ -19,9 +19,10 @@ impl Deadline {
     pub fn after(limit: Duration) -> Self {
         Deadline(Instant::now().checked_add(limit))
     }
-    /// Whether the limit has passed.
+    /// Whether the limit has passed, or the process's memory limit is exceeded
+    /// ([`crate::memory`]): every planner stops at either the same way.
     pub fn expired(&self) -> bool {
-        self.0.is_some_and(|d| Instant::now() >= d)
+        self.0.is_some_and(|d| Instant::now() >= d) || crate::memory::over_limit()
     }
 }
 
@@ -165,6 +166,8 @@ where
 pub enum Unsolved {
     /// The time limit was reached.
     TimeLimit,
+    /// The memory limit ([`crate::memory`]) was reached: the planner stopped as at a deadline.
+    MemoryLimit,
     /// The planner finished without a plan (it explains why): an honest "not solved".
     GaveUp(String),
     /// The planner returned a plan the validator rejects: a bug in mrpp, never the user's fault.
@@ -177,10 +180,11 @@ impl Unsolved {
     pub fn is_bug(&self) -> bool {
         matches!(self, Unsolved::Invalid(_))
     }
-    /// A short status word for records: `time_limit`, `gave_up` or `invalid`.
+    /// A short status word for records: `time_limit`, `memory_limit`, `gave_up` or `invalid`.
     pub fn status(&self) -> &'static str {
         match self {
             Unsolved::TimeLimit => "time_limit",
+            Unsolved::MemoryLimit => "memory_limit",
             Unsolved::GaveUp(_) => "gave_up",
             Unsolved::Invalid(_) => "invalid",
         }
@@ -191,6 +195,11 @@ impl std::fmt::Display for Unsolved {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Unsolved::TimeLimit => write!(f, "time limit reached"),
+            Unsolved::MemoryLimit => write!(
+                f,
+                "memory limit reached ({} MB of heap; --memory-limit)",
+                crate::memory::limit().unwrap_or(0) >> 20
+            ),
             Unsolved::GaveUp(why) => write!(f, "{why}"),
             Unsolved::Invalid(why) => write!(f, "invalid plan: {why}"),
         }
@@ -211,7 +220,14 @@ pub fn solve<P: Problem>(
         "a reader let through an instance that breaks the rules"
     );
     let started = Instant::now();
-    let plan = planner.plan(problem, ctx)?;
+    crate::memory::reset_tripped();
+    let plan = planner.plan(problem, ctx).map_err(|why| match why {
+        // A planner stopped by the memory limit saw an expired deadline.
+        Unsolved::TimeLimit | Unsolved::GaveUp(_) if crate::memory::tripped() => {
+            Unsolved::MemoryLimit
+        }
+        other => other,
+    })?;
     accept(problem, plan, planner.name(), started.elapsed())
 }
 

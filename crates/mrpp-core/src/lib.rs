@@ -10,7 +10,8 @@
 //! - [`mapf`]: graph (CSR), instance, [`Rules`] (goal semantics, following), plan, validator,
 //!   metrics and the shared searches (BFS tables, space-time A*).
 //! - [`seeds`]: per-job seed derivation; [`picture`]: the agents' colours and waits of every picture;
-//!   [`error`]: typed errors; [`files_read`]: the files a process read (outputs refuse them).
+//!   [`error`]: typed errors; [`files_read`]: the files a process read (outputs refuse them);
+//!   [`memory`]: the process-wide memory limit every planner honours through its deadline.
 //!
 //! No family, no file format of another tool and no geometry dependency lives here. The library
 //! never prints and never exits.
@@ -20,6 +21,7 @@ pub mod envelope;
 pub mod error;
 pub mod files_read;
 pub mod mapf;
+pub mod memory;
 pub mod picture;
 pub mod registry;
 pub mod seeds;

@@ -230,7 +230,9 @@ impl Sweep for HbmoNavigation {
                 }
             }
             Err(Unsolved::Invalid(why)) => return Err(Error::Internal(why)),
-            Err(Unsolved::TimeLimit) => row.status = "time_limit".into(),
+            Err(why @ (Unsolved::TimeLimit | Unsolved::MemoryLimit)) => {
+                row.status = why.status().into();
+            }
             Err(Unsolved::GaveUp(why)) => {
                 row.status = if why.starts_with("deadlock") {
                     "deadlock"
