@@ -245,12 +245,26 @@ pub fn random_map_text(
 }
 
 /// `inst` as a MovingAI `.scen` (`version 1`; bucket = distance / 4; the last field is the
-/// 4-connected shortest distance, where MovingAI's own files give the octile one).
+/// 4-connected shortest distance, where MovingAI's own files give the octile one; `u32::MAX` when
+/// the goal cannot be reached). Each distance is an A* search with the Manhattan distance as its
+/// heuristic (a breadth-first search over the whole map per agent took 67 s for 2,000 agents on
+/// a 1000 x 1000 map).
 pub fn scen_text(map: &GridMap, map_file: &str, inst: &Instance) -> String {
     use std::fmt::Write as _;
+    let g = map.graph();
     let mut s = String::from("version 1\n");
     for (&a, &b) in inst.starts.iter().zip(&inst.goals) {
-        let d = mrpp_core::mapf::search::distance::bfs_distances(map.graph(), b)[a as usize];
+        let (bx, by) = map.cell(b);
+        let d = pathfinding::directed::astar::astar(
+            &a,
+            |&v| g.neighbors(v).iter().map(|&w| (w, 1u32)),
+            |&v| {
+                let (x, y) = map.cell(v);
+                x.abs_diff(bx) + y.abs_diff(by)
+            },
+            |&v| v == b,
+        )
+        .map_or(u32::MAX, |(_, d)| d);
         let ((sx, sy), (gx, gy)) = (map.cell(a), map.cell(b));
         let _ = writeln!(
             s,
@@ -266,6 +280,35 @@ pub fn scen_text(map: &GridMap, map_file: &str, inst: &Instance) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn scen_distances_are_the_breadth_first_ones() {
+        for seed in 0..5 {
+            let text = random_map_text(30, 20, 0.3, seed).unwrap();
+            let (m, _) = GridMap::parse(&text, Path::new("r.map")).unwrap();
+            // Starts and goals anywhere, so some goals cannot be reached.
+            let free: Vec<VertexId> = (0..m.graph().num_vertices() as VertexId).collect();
+            let k = free.len().min(40);
+            let inst = Instance::new(
+                free[..k].to_vec(),
+                free[free.len() - k..].iter().rev().copied().collect(),
+            )
+            .unwrap();
+            let scen = scen_text(&m, "r.map", &inst);
+            for (line, (&a, &b)) in scen
+                .lines()
+                .skip(1)
+                .zip(inst.starts.iter().zip(&inst.goals))
+            {
+                let d = mrpp_core::mapf::search::distance::bfs_distances(m.graph(), b)[a as usize];
+                assert_eq!(
+                    line.rsplit('\t').next().unwrap(),
+                    d.to_string(),
+                    "seed {seed}: {line}"
+                );
+            }
+        }
+    }
 
     #[test]
     fn random_maps_are_seeded_and_checked() {
