@@ -154,17 +154,14 @@ fn formation_and_continuous_planners_keep_the_time_limit() {
     );
     let dir = folder("limits-continuous");
     let world = dir.join("world.json");
+    // RVO2's circle scenario with 64 robots (each heads for the antipode).
     let generate = [
         "gen",
         "continuous",
         "--kind",
-        "random",
+        "circle",
         "--robots",
         "64",
-        "--obstacles",
-        "20",
-        "-s",
-        "1",
         "-q",
         "-o",
         s(&world),
