@@ -88,13 +88,19 @@ pub struct RunRecord {
     pub params: String,
     pub run: usize,
     pub seed: u64,
-    /// `solved`, `time_limit`, `gave_up` (never `invalid`: an invalid plan stops the sweep).
+    /// `solved`, `time_limit`, `memory_limit`, `gave_up`; for peers also `invalid` (a plan
+    /// mrpp's validator refuses) and `peer_failed` (the command did not run or exited non-zero
+    /// without a result). An invalid plan of mrpp's own stops the sweep.
     pub status: String,
     pub sum_of_costs: Option<u64>,
     pub makespan: Option<u64>,
     pub sum_of_moves: Option<u64>,
     /// Wall time of the planner (machine-dependent).
     pub runtime_ms: f64,
+    /// Why a peer failed (`peer_failed`): its exit status and the first lines of its stderr;
+    /// empty otherwise. The last column, so the columns before it keep their places.
+    #[serde(default)]
+    pub note: String,
 }
 
 /// A sweep: a fixed list of jobs, how to run one, and what its outputs are.

@@ -257,7 +257,12 @@ pub struct GridSweep {
     instances: Vec<Loaded>,
     planners: Vec<Solver>,
     jobs: Vec<(usize, usize, usize)>,
+    /// Consecutive `peer_failed` runs per solver (peers only).
+    peer_failures: Vec<std::sync::atomic::AtomicUsize>,
 }
+
+/// Consecutive failed runs of one peer command after which a sweep stops.
+pub const MAX_PEER_FAILURES: usize = 3;
 
 fn stem(p: &Path) -> String {
     p.file_stem()
@@ -328,6 +333,7 @@ impl GridSweep {
         Ok(GridSweep {
             cfg,
             instances,
+            peer_failures: planners.iter().map(|_| Default::default()).collect(),
             planners,
             jobs,
         })
@@ -408,7 +414,7 @@ impl Sweep for GridSweep {
         let seed = derive_seed(self.cfg.seed, &self.key(job));
         let b = match &self.planners[p] {
             Solver::Own(b) => b,
-            Solver::Peer(peer) => return Ok(self.run_peer(peer, i, run, seed, job)),
+            Solver::Peer(peer) => return self.run_peer_counted(p, peer, i, run, seed, job),
         };
         let ctx = Ctx::new(
             seed,
@@ -438,6 +444,7 @@ impl Sweep for GridSweep {
             makespan: m.map(|m| m.makespan),
             sum_of_moves: m.map(|m| m.sum_of_moves),
             runtime_ms,
+            note: String::new(),
         })
     }
 
@@ -636,6 +643,64 @@ impl GridSweep {
         ))
     }
 
+    /// [`Self::run_peer`], counting the peer's consecutive `peer_failed` runs: after
+    /// [`MAX_PEER_FAILURES`] in a row the sweep stops with an error naming the peer, its last
+    /// failure and its command, instead of recording a broken command as a planner that solved
+    /// nothing.
+    fn run_peer_counted(
+        &self,
+        p: usize,
+        peer: &PeerSpec,
+        i: usize,
+        run: usize,
+        seed: u64,
+        job: &(usize, usize, usize),
+    ) -> Result<RunRecord> {
+        use std::sync::atomic::Ordering;
+        let rec = self.run_peer(peer, i, run, seed, job);
+        let failures = &self.peer_failures[p];
+        if rec.status != "peer_failed" {
+            failures.store(0, Ordering::Relaxed);
+            return Ok(rec);
+        }
+        let n = failures.fetch_add(1, Ordering::Relaxed) + 1;
+        if n >= MAX_PEER_FAILURES {
+            return Err(Error::Param(format!(
+                "peer `{}` failed {n} runs in a row (last: {}); check its command: {}",
+                peer.name, rec.note, peer.command
+            )));
+        }
+        Ok(rec)
+    }
+
+    /// A `peer_failed` record of peer `peer` on instance `i`.
+    fn peer_failed(
+        &self,
+        peer: &PeerSpec,
+        i: usize,
+        run: usize,
+        seed: u64,
+        note: String,
+        runtime_ms: f64,
+    ) -> RunRecord {
+        RunRecord {
+            job: 0,
+            key: String::new(),
+            family: mrpp_grid::FAMILY.into(),
+            instance: self.instances[i].name.clone(),
+            planner: peer.name.clone(),
+            params: "peer".into(),
+            run,
+            seed,
+            status: "peer_failed".into(),
+            sum_of_costs: None,
+            makespan: None,
+            sum_of_moves: None,
+            runtime_ms,
+            note,
+        }
+    }
+
     /// Runs peer `peer` on instance `i` (module doc).
     fn run_peer(
         &self,
@@ -647,6 +712,8 @@ impl GridSweep {
     ) -> RunRecord {
         let inst = &self.instances[i];
         let n = inst.problem.num_agents();
+        let failed =
+            |note: String, runtime_ms: f64| self.peer_failed(peer, i, run, seed, note, runtime_ms);
         let record = |status: &str, m: Option<mrpp_core::Metrics>, runtime_ms: f64| RunRecord {
             job: 0,
             key: String::new(),
@@ -661,6 +728,7 @@ impl GridSweep {
             makespan: m.map(|m| m.makespan),
             sum_of_moves: m.map(|m| m.sum_of_moves),
             runtime_ms,
+            note: String::new(),
         };
         // One folder per job (its key is unique in the sweep), emptied first.
         let dir = std::env::temp_dir().join(format!(
@@ -669,10 +737,11 @@ impl GridSweep {
             derive_seed(0, &self.key(job))
         ));
         let _ = std::fs::remove_dir_all(&dir);
-        if std::fs::create_dir_all(&dir).is_err() {
-            return record("gave_up", None, 0.0);
+        if let Err(e) = std::fs::create_dir_all(&dir) {
+            return failed(format!("cannot make {}: {e}", dir.display()), 0.0);
         }
         let out = dir.join("result.txt");
+        let stderr_path = dir.join("stderr.txt");
         let mut command = peer.command.clone();
         for (k, v) in [
             ("map", shell_quote(&inst.map_path.to_string_lossy())),
@@ -687,20 +756,22 @@ impl GridSweep {
         let started = std::time::Instant::now();
         let limit = Duration::from_secs_f64(self.cfg.time_limit * 2.0 + 10.0);
         // Its own process group, so that a timeout kills whatever the command started.
-        let finished = {
+        // `Ok(Some(status))` when it ended, `Ok(None)` when it was killed at the limit.
+        let finished: std::io::Result<Option<std::process::ExitStatus>> = (|| {
             use std::os::unix::process::CommandExt as _;
+            let stderr = std::fs::File::create(&stderr_path)?;
             std::process::Command::new("sh")
                 .arg("-c")
                 .arg(&command)
                 .process_group(0)
                 .stdin(std::process::Stdio::null())
                 .stdout(std::process::Stdio::null())
-                .stderr(std::process::Stdio::null())
+                .stderr(stderr)
                 .spawn()
                 .map(|mut child| {
                     loop {
                         match child.try_wait() {
-                            Ok(Some(_)) => break Some(true),
+                            Ok(Some(status)) => break Some(status),
                             Ok(None) if started.elapsed() < limit => {
                                 std::thread::sleep(Duration::from_millis(5))
                             }
@@ -710,23 +781,48 @@ impl GridSweep {
                                     .status();
                                 let _ = child.kill();
                                 let _ = child.wait();
-                                break Some(false);
+                                break None;
                             }
                         }
                     }
                 })
-                .unwrap_or(None)
-        };
+        })();
         let wall_ms = started.elapsed().as_secs_f64() * 1e3;
         let text = std::fs::read_to_string(&out).ok();
+        let stderr = std::fs::read_to_string(&stderr_path).unwrap_or_default();
         let _ = std::fs::remove_dir_all(&dir);
-        match finished {
-            Some(false) => return record("time_limit", None, wall_ms),
-            None => return record("gave_up", None, wall_ms),
-            Some(true) => {}
-        }
-        let Some(text) = text else {
-            return record("gave_up", None, wall_ms);
+        let status = match finished {
+            Err(e) => return failed(format!("cannot start `sh -c {command}`: {e}"), wall_ms),
+            Ok(None) => return record("time_limit", None, wall_ms),
+            Ok(Some(status)) => status,
+        };
+        let Some(text) = text.filter(|_| status.success()) else {
+            // No result, or a non-zero exit: the command is broken, not the peer's answer.
+            let what = match status.code() {
+                Some(c) => format!("exit {c}"),
+                None => "killed by a signal".into(),
+            };
+            let first: Vec<&str> = stderr
+                .lines()
+                .filter(|l| !l.trim().is_empty())
+                .take(3)
+                .collect();
+            return failed(
+                format!(
+                    "{what}{}{}",
+                    if status.success() {
+                        ", no result file"
+                    } else {
+                        ""
+                    },
+                    if first.is_empty() {
+                        String::new()
+                    } else {
+                        format!(": {}", first.join(" / "))
+                    }
+                ),
+                wall_ms,
+            );
         };
         // A peer's own runtime, when it is a sane number of milliseconds.
         let runtime_ms = text

@@ -92,4 +92,9 @@ impl Jobs {
     pub(crate) fn finish(&self) {
         self.bar.finish_and_clear();
     }
+
+    /// Runs `f` (which prints a line) with the bar hidden, so the line is not drawn over.
+    pub(crate) fn suspend<R>(&self, f: impl FnOnce() -> R) -> R {
+        self.bar.suspend(f)
+    }
 }

@@ -126,6 +126,19 @@ fn run_jobs<S: Sweep>(
     }
     let jobs = Jobs::new(mine - previous.len(), unit);
     let sink = |j: usize, row: &S::Row| -> mrpp_core::Result<()> {
+        // A peer whose command failed is said at once, not only in records.csv.
+        for r in sweep
+            .records(row)
+            .iter()
+            .filter(|r| r.status == "peer_failed")
+        {
+            jobs.suspend(|| {
+                eprintln!(
+                    "mrpp: warning: peer `{}` failed on {} (run {}): {}",
+                    r.planner, r.instance, r.run, r.note
+                )
+            });
+        }
         let line = progress_line(sweep, j, row);
         let mut f = log.lock().unwrap_or_else(|e| e.into_inner());
         f.write_all(line.as_bytes())

@@ -270,3 +270,67 @@ fn a_peer_command_joins_the_sweep_and_an_interrupted_run_resumes() {
     assert!(err.contains("unknown placeholder `{mapp}`"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Issue 30, item 1: a peer command that cannot run is not a peer that solved nothing. Each
+/// failed run warns on the terminal and is recorded as `peer_failed` with its exit status and
+/// stderr; after three in a row the sweep stops with exit 1 naming the command. A peer that
+/// exits non-zero after writing a result is a failure too.
+#[test]
+fn a_broken_peer_command_warns_is_recorded_and_stops_the_sweep() {
+    let dir = tmp("broken-peer");
+    let out = dir.join("out");
+    let run = |peer: &str, code: i32| {
+        mrpp(
+            &[
+                "bench",
+                "run",
+                "--map",
+                "data/movingai/random-32-32-20.map",
+                "--scen",
+                "data/movingai/random-32-32-20-random-1.scen",
+                "--agents",
+                "5",
+                "--planners",
+                "pibt",
+                "--runs",
+                "3",
+                "--time-limit",
+                "2",
+                "--jobs",
+                "1",
+                "--peer",
+                peer,
+                "--out",
+                s(&out),
+            ],
+            code,
+        )
+    };
+    let (_, err) = run("typo=/nonexistent/lacam0 -m {map} -o {out}", 1);
+    assert_eq!(
+        err.matches("warning: peer `typo` failed").count(),
+        2,
+        "{err}"
+    );
+    assert!(
+        err.contains("exit 127") && err.contains("not found"),
+        "{err}"
+    );
+    assert!(
+        err.contains("peer `typo` failed 3 runs in a row")
+            && err.contains("check its command: /nonexistent/lacam0"),
+        "{err}"
+    );
+    // A command that runs but fails says why (its exit status and stderr), and the failed runs
+    // are in the progress file as `peer_failed` with that reason.
+    let _ = std::fs::remove_dir_all(&out);
+    let (_, err) = run("flaky=sh -c 'echo broken pipe >&2; exit 3' {out}", 1);
+    assert!(err.contains("exit 3: broken pipe"), "{err}");
+    let progress = std::fs::read_dir(&out)
+        .unwrap()
+        .map(|e| std::fs::read_to_string(e.unwrap().path()).unwrap_or_default())
+        .find(|t| t.contains("peer_failed"))
+        .expect("the failed runs are recorded");
+    assert!(progress.contains("exit 3: broken pipe"), "{progress}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

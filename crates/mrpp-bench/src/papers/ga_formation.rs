@@ -286,6 +286,7 @@ impl Sweep for GaFormation {
             makespan: None,
             sum_of_moves: None,
             runtime_ms: 0.0,
+            note: String::new(),
         };
         vec![
             rec("sequential", Some(r.sequential), 0),

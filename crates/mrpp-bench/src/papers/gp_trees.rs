@@ -599,6 +599,7 @@ fn pair_records(
         makespan: m.makespan,
         sum_of_moves: m.sum_of_moves,
         runtime_ms: m.runtime_ms,
+        note: String::new(),
     };
     vec![
         rec(mrpp_trees::psw::NAME, String::new(), psw),

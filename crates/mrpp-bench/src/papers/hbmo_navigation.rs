@@ -269,6 +269,7 @@ impl Sweep for HbmoNavigation {
             makespan: r.steps.map(|s| s as u64),
             sum_of_moves: None,
             runtime_ms: r.runtime_ms,
+            note: String::new(),
         }]
     }
     fn pages(&self, rows: &[&NavRow], m: &Manifest) -> Result<Vec<(String, String)>> {

@@ -292,6 +292,7 @@ impl Sweep for Table2 {
             makespan: r.max,
             sum_of_moves: r.moves,
             runtime_ms: r.runtime_ms,
+            note: String::new(),
         }]
     }
 
