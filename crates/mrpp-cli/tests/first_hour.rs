@@ -1,5 +1,6 @@
-//! The README renders as written: its command table is one table (issue 30, item 6: a blank
-//! line after the GP row turned the eleven rows after it into raw `|` text).
+//! A newcomer's first hour (issue 30): the README renders as written (item 6: a blank line after
+//! the GP row turned the eleven rows after it into raw `|` text), and shell completion offers
+//! planner, family and world-kind names rather than file names (item 4).
 
 use std::path::PathBuf;
 
@@ -33,4 +34,21 @@ fn the_readme_command_table_is_one_unbroken_table() {
         assert_eq!(separators, 3, "not a two-column row: {row}");
     }
     assert!(end - header > 20, "the table has all its commands");
+}
+
+#[test]
+fn completion_offers_planner_family_and_kind_names() {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_mrpp"))
+        .args(["completions", "bash"])
+        .output()
+        .unwrap();
+    let script = String::from_utf8_lossy(&o.stdout);
+    for words in [
+        "hstar ca hca whca coevolution nsga3 pibt lacam cbs eecbs psw gp sequential ga exact hbmo de pso orca",
+        "grid trees formation continuous",
+        "gen-dense gen-staggered-brick-wall gen-var-density gen-var-density3",
+        "random circle",
+    ] {
+        assert!(script.contains(words), "completion lacks `{words}`");
+    }
 }
