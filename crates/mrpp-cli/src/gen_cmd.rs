@@ -55,7 +55,7 @@ pub(crate) enum Gen {
         after_help = "Examples (from the repository's root):\n  mrpp gen polygon-map --kind gen-dense -s 0 -o dense.txt"
     )]
     PolygonMap {
-        #[arg(long)]
+        #[arg(long, value_parser = crate::output::Offer(|| mrpp_formation::generator::KINDS.to_vec()))]
         kind: String,
         #[arg(short = 's', long, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
         seed: u64,
@@ -92,7 +92,7 @@ pub(crate) enum Gen {
         after_help = "Examples (from the repository's root):\n  mrpp gen continuous --kind random --robots 10 --obstacles 5 -s 0 -o world.json\n  mrpp gen continuous --kind circle --robots 16 -o circle.json"
     )]
     Continuous {
-        #[arg(long, default_value = "random")]
+        #[arg(long, default_value = "random", value_parser = crate::output::Offer(|| vec!["random", "circle"]))]
         kind: String,
         #[arg(long)]
         robots: usize,

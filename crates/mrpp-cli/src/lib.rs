@@ -80,8 +80,8 @@ enum Command {
     /// List the planners of every family (or of one) with their parameters.
     #[command(after_help = "Examples (from the repository's root):\n  mrpp planners --family grid")]
     Planners {
-        /// Only this family (grid, trees).
-        #[arg(long)]
+        /// Only this family (grid, trees, formation, continuous).
+        #[arg(long, value_parser = output::Offer(output::family_names))]
         family: Option<String>,
     },
     /// Describe an instance: map size, free cells, corridor nodes, and lower bounds on any valid
@@ -187,9 +187,8 @@ enum Command {
 struct SolveArgs {
     #[command(flatten)]
     inputs: Inputs,
-    /// Planner (`mrpp planners` lists them): hstar, ca, hca, whca, coevolution, nsga3, pibt, lacam,
-    /// cbs, eecbs, psw, gp, sequential, ga, exact, hbmo, de, pso, orca.
-    #[arg(short = 'P', long)]
+    /// Planner (`mrpp planners` describes each, with its parameters).
+    #[arg(short = 'P', long, value_parser = output::Offer(output::planner_names))]
     planner: String,
     /// Planner parameter `key=value`, repeatable (unknown keys are refused with the valid ones).
     #[arg(short = 'p', long = "param", value_name = "KEY=VALUE")]

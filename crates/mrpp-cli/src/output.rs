@@ -404,3 +404,43 @@ pub(crate) fn metrics_object<M: serde::Serialize>(m: &M) -> Map<String, Value> {
         _ => Map::new(),
     }
 }
+
+/// A value parser that accepts any text (the command checks it, with its own message) but offers
+/// `names` to shell completion (`mrpp completions`), so `--planner <TAB>` lists the planners
+/// instead of file names.
+#[derive(Clone)]
+pub(crate) struct Offer(pub(crate) fn() -> Vec<&'static str>);
+
+impl clap::builder::TypedValueParser for Offer {
+    type Value = String;
+    fn parse_ref(
+        &self,
+        _cmd: &clap::Command,
+        _arg: Option<&clap::Arg>,
+        value: &std::ffi::OsStr,
+    ) -> Result<String, clap::Error> {
+        Ok(value.to_string_lossy().into_owned())
+    }
+    fn possible_values(
+        &self,
+    ) -> Option<Box<dyn Iterator<Item = clap::builder::PossibleValue> + '_>> {
+        Some(Box::new(
+            (self.0)()
+                .into_iter()
+                .map(|n| clap::builder::PossibleValue::new(n).hide(false)),
+        ))
+    }
+}
+
+/// Every planner name of every family (for [`Offer`]).
+pub(crate) fn planner_names() -> Vec<&'static str> {
+    crate::family::FAMILIES
+        .iter()
+        .flat_map(|f| f.planners().into_iter().map(|(name, _, _)| name))
+        .collect()
+}
+
+/// Every family name (for [`Offer`]).
+pub(crate) fn family_names() -> Vec<&'static str> {
+    crate::family::FAMILIES.iter().map(|f| f.name()).collect()
+}
