@@ -174,7 +174,7 @@ mod tests {
                 .any(|p| p.family == "trees" && p.name == "psw")
         );
         let bad = solve(&inputs, "psw", &[], 0, 1.0).unwrap_err();
-        assert!(bad.contains("is for trees problems"), "{bad}");
+        assert!(bad.contains("plans trees problems"), "{bad}");
         let bad = solve(&inputs, "lacam", &[], 0, -1.0).unwrap_err();
         assert!(bad.contains("--time-limit must be more than 0"), "{bad}");
     }

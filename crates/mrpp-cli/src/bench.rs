@@ -50,7 +50,7 @@ pub(crate) struct RunArgs {
     #[arg(long, value_delimiter = ',')]
     planners: Vec<String>,
     /// Runs per cell (flags only; a config sets `runs`).
-    #[arg(long, conflicts_with = "config")]
+    #[arg(allow_negative_numbers = true, value_parser = crate::output::parse_count, long, conflicts_with = "config")]
     runs: Option<usize>,
     /// Seconds per run (flags only; a config sets `time_limit`).
     #[arg(
@@ -72,7 +72,7 @@ pub(crate) struct RunArgs {
     peers: Vec<PeerSpec>,
     /// Jobs run at once (default: one per core). Use 1 to time solvers side by side without
     /// them competing for cores.
-    #[arg(long)]
+    #[arg(allow_negative_numbers = true, value_parser = crate::output::parse_count, long)]
     jobs: Option<usize>,
     /// Output folder. A folder holding an interrupted run of the same sweep resumes it.
     #[arg(short = 'o', long, default_value = "out/bench")]

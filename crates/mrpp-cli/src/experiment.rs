@@ -72,7 +72,7 @@ pub enum Experiment {
 #[derive(clap::Args)]
 pub struct HbmoArgs {
     /// Runs per (world, method); the paper: 5 (use 30 for the significance tests).
-    #[arg(long, default_value_t = 5)]
+    #[arg(allow_negative_numbers = true, value_parser = crate::output::parse_count, long, default_value_t = 5)]
     runs: usize,
     #[arg(short = 's', long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
     seed: u64,
@@ -104,7 +104,7 @@ pub struct HbmoArgs {
 #[derive(clap::Args)]
 pub struct GaFormationArgs {
     /// Start/goal pairs per map (default 10; --paper-settings: 95, about 2000 configurations).
-    #[arg(long)]
+    #[arg(allow_negative_numbers = true, value_parser = crate::output::parse_count, long)]
     pairs: Option<usize>,
     /// Formation sizes R (comma-separated).
     #[arg(long, value_delimiter = ',', default_value = "1,2,3")]
@@ -135,7 +135,7 @@ pub struct GaFormationArgs {
 #[derive(clap::Args)]
 pub struct HstarTable2Args {
     /// Runs per (instance, method); the paper uses 10.
-    #[arg(long, default_value_t = 10)]
+    #[arg(allow_negative_numbers = true, value_parser = crate::output::parse_count, long, default_value_t = 10)]
     runs: usize,
     #[arg(short = 's', long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
     seed: u64,
@@ -175,7 +175,7 @@ pub struct HstarTable2Args {
 pub struct GpCommon {
     /// Problems: Table 3 — problems (default 100, paper 1000); Table 4 — test problems per trial
     /// (default 50, paper 100); Table 5 — problems per leaf multiplier (default 40, paper 200).
-    #[arg(long)]
+    #[arg(allow_negative_numbers = true, value_parser = crate::output::parse_count, long)]
     problems: Option<usize>,
     #[arg(short = 's', long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
     seed: u64,
@@ -230,7 +230,7 @@ pub struct GpTable4Args {
     #[arg(long, value_delimiter = ',', default_value = "5,10,20")]
     train_sizes: Vec<usize>,
     /// Trials per |X| (default 2, paper 10).
-    #[arg(long)]
+    #[arg(allow_negative_numbers = true, value_parser = crate::output::parse_count, long)]
     trials: Option<usize>,
 }
 

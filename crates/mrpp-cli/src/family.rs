@@ -116,6 +116,55 @@ impl Inputs {
         )
     }
 
+    /// The families whose files are given, each with the flags that name them.
+    fn families_given(&self) -> Vec<(&'static str, String)> {
+        let flags = |named: &[(&str, bool)]| -> Option<String> {
+            let given: Vec<&str> = named.iter().filter(|n| n.1).map(|n| n.0).collect();
+            (!given.is_empty()).then(|| given.join(" "))
+        };
+        [
+            (
+                "grid",
+                flags(&[
+                    ("--map", self.map.is_some()),
+                    ("--scen", self.scen.is_some()),
+                    ("--lorr", self.lorr.is_some()),
+                ]),
+            ),
+            ("trees", flags(&[("--instance", self.instance.is_some())])),
+            (
+                "formation",
+                flags(&[("--formation", self.formation.is_some())]),
+            ),
+            ("continuous", flags(&[("--world", self.world.is_some())])),
+            (
+                "line",
+                flags(&[("--line-world", self.line_world.is_some())]),
+            ),
+        ]
+        .into_iter()
+        .filter_map(|(family, f)| f.map(|f| (family, f)))
+        .collect()
+    }
+
+    /// Checks that the files given are one family's: `--map --scen --world` names two problems,
+    /// and silently planning one of them would drop the other.
+    pub(crate) fn one_family(&self) -> Result<(), Fail> {
+        let given = self.families_given();
+        if given.len() > 1 {
+            let list: Vec<String> = given
+                .iter()
+                .map(|(family, flags)| format!("{flags} ({family})"))
+                .collect();
+            return Err(Fail(format!(
+                "these inputs name problems of {} families: {}; give one problem's files",
+                given.len(),
+                list.join(" and ")
+            )));
+        }
+        Ok(())
+    }
+
     /// The files given, as `--flag path` pairs (for `-v`).
     pub(crate) fn files(&self) -> String {
         let named = [
@@ -316,8 +365,20 @@ pub(crate) fn family_of_planner(planner: &str) -> Result<&'static dyn Family, Fa
         })
 }
 
+/// The files a family's problems are read from, as flags.
+fn needs(family: &str) -> &'static str {
+    match family {
+        "grid" => "--map M --scen S (or --lorr P.json)",
+        "trees" => "--instance I.json",
+        "formation" => "--formation F.json",
+        "continuous" => "--world W.json",
+        _ => "the family's files",
+    }
+}
+
 /// The family whose files `inputs` name.
 pub(crate) fn family_of_inputs(inputs: &Inputs) -> Result<&'static dyn Family, Fail> {
+    inputs.one_family()?;
     FAMILIES
         .iter()
         .copied()
@@ -348,10 +409,19 @@ fn run_planner<P: Problem + 'static>(
     announce: bool,
 ) -> Result<Run<P>, Fail> {
     let limit = time_limit(req.time_limit)?;
+    req.inputs.one_family()?;
     if !(def.claims)(&req.inputs) {
+        let given = req.inputs.families_given();
+        let had = match given.first() {
+            Some((family, flags)) if *family == def.name => format!("{flags} alone is not enough"),
+            Some((family, flags)) => format!("{flags} names a {family} problem"),
+            None => "no problem file is given".into(),
+        };
         return Err(Fail(format!(
-            "planner `{}` is for {} problems, and these inputs are not (see `mrpp solve --help`)",
-            req.planner, def.name
+            "planner `{}` plans {} problems, which need {}; {had} (see `mrpp solve --help`)",
+            req.planner,
+            def.name,
+            needs(def.name)
         )));
     }
     if req.format == Format::Lacam && !def.lacam {

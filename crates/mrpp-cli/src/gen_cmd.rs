@@ -37,12 +37,12 @@ pub(crate) enum Gen {
         after_help = "Examples (from the repository's root):\n  mrpp gen map --width 64 --height 64 --obstacles 0.2 -s 0 -o random-64-64-20.map"
     )]
     Map {
-        #[arg(long)]
+        #[arg(allow_negative_numbers = true, value_parser = crate::output::parse_whole, long)]
         width: usize,
-        #[arg(long)]
+        #[arg(allow_negative_numbers = true, value_parser = crate::output::parse_whole, long)]
         height: usize,
         /// Fraction of cells that are obstacles (0 to 0.9).
-        #[arg(long, default_value_t = 0.1)]
+        #[arg(allow_negative_numbers = true, long, default_value_t = 0.1)]
         obstacles: f64,
         #[arg(short = 's', long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
         seed: u64,
@@ -71,16 +71,16 @@ pub(crate) enum Gen {
         /// The polygon map (recorded relative to the output file's folder when possible).
         #[arg(short = 'm', long)]
         map: PathBuf,
-        #[arg(long)]
+        #[arg(allow_negative_numbers = true, value_parser = crate::output::parse_whole, long)]
         robots: usize,
         #[arg(short = 's', long, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
         seed: u64,
-        #[arg(long, default_value_t = 0.3)]
+        #[arg(allow_negative_numbers = true, long, default_value_t = 0.3)]
         radius: f64,
         /// Cost model: lanes (with --kappa), waves or hard.
         #[arg(long, default_value = "lanes")]
         cost: String,
-        #[arg(long, default_value_t = 0.5)]
+        #[arg(allow_negative_numbers = true, long, default_value_t = 0.5)]
         kappa: f64,
         #[arg(short = 'o', long)]
         out: PathBuf,
@@ -94,21 +94,21 @@ pub(crate) enum Gen {
     Continuous {
         #[arg(long, default_value = "random", value_parser = crate::output::Offer(|| vec!["random", "circle"]))]
         kind: String,
-        #[arg(long)]
+        #[arg(allow_negative_numbers = true, value_parser = crate::output::parse_whole, long)]
         robots: usize,
         /// Obstacles of a random world.
-        #[arg(long, default_value_t = 4)]
+        #[arg(allow_negative_numbers = true, value_parser = crate::output::parse_whole, long, default_value_t = 4)]
         obstacles: usize,
         #[arg(short = 's', long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
         seed: u64,
         /// Circle: radius of the ring.
-        #[arg(long, default_value_t = 200.0)]
+        #[arg(allow_negative_numbers = true, long, default_value_t = 200.0)]
         ring: f64,
         /// Circle: robot radius.
-        #[arg(long, default_value_t = 6.0)]
+        #[arg(allow_negative_numbers = true, long, default_value_t = 6.0)]
         radius: f64,
         /// Circle: robot speed per step.
-        #[arg(long, default_value_t = 8.0)]
+        #[arg(allow_negative_numbers = true, long, default_value_t = 8.0)]
         speed: f64,
         #[arg(short = 'o', long)]
         out: PathBuf,

@@ -363,6 +363,15 @@ pub(crate) fn parse_count(s: &str) -> Result<usize, String> {
     }
 }
 
+/// Counts that may be 0 (e.g. `gen continuous --obstacles`): a whole number from 0.
+pub(crate) fn parse_whole(s: &str) -> Result<usize, String> {
+    match s.trim().parse::<i128>() {
+        Ok(n) if n >= 0 && n <= usize::MAX as i128 => Ok(n as usize),
+        Ok(n) => Err(format!("must be a whole number from 0, got {n}")),
+        Err(_) => Err(format!("must be a whole number from 0, got `{s}`")),
+    }
+}
+
 /// `--seed`: a whole number from 0 to 2^64 - 1.
 pub(crate) fn parse_seed(s: &str) -> Result<u64, String> {
     match s.trim().parse::<i128>() {

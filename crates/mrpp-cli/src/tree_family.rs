@@ -101,13 +101,13 @@ pub(crate) enum Trees {
         #[arg(short = 's', long, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
         seed: u64,
         /// Depth budget, Algorithm 2's "seed" (paper: 4–10; at most 30).
-        #[arg(long)]
+        #[arg(allow_negative_numbers = true, long)]
         depth: u32,
         /// Maximum branching factor b: a node gets 0..b-1 children (paper: 4; 3 to 16).
-        #[arg(long, default_value_t = 4)]
+        #[arg(allow_negative_numbers = true, long, default_value_t = 4)]
         branching: u32,
         /// Number of robots (at most the node count minus 2).
-        #[arg(long)]
+        #[arg(allow_negative_numbers = true, value_parser = crate::output::parse_whole, long)]
         robots: Option<usize>,
         /// Robots = floor(M x leaves), capped at the node count minus 2 (paper: 0.25 to 1.5).
         #[arg(long, allow_negative_numbers = true)]
@@ -115,7 +115,7 @@ pub(crate) enum Trees {
         /// Refuse trees with more nodes than this: with b = 4 the tree size varies wildly with the
         /// seed at large depths (depth 30 gives from a few nodes to millions), and neither
         /// planner can do anything useful on such trees. The generator itself stops at 2^22.
-        #[arg(long, default_value_t = 100_000)]
+        #[arg(allow_negative_numbers = true, value_parser = crate::output::parse_count, long, default_value_t = 100_000)]
         max_nodes: usize,
         /// Write the instance here.
         #[arg(short = 'o', long)]

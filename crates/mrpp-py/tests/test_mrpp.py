@@ -148,7 +148,7 @@ def test_errors_name_the_file_line_and_rule(tmp_path):
     problem = mrpp.Problem.grid(WAREHOUSE_MAP, WAREHOUSE_ROBOTS)
     with pytest.raises(mrpp.MrppError, match="unknown planner `nope`"):
         mrpp.solve(problem, "nope")
-    with pytest.raises(mrpp.MrppError, match="is for trees problems"):
+    with pytest.raises(mrpp.MrppError, match="plans trees problems"):
         mrpp.solve(problem, "psw")
     with pytest.raises(mrpp.MrppError, match="time-limit must be more than 0"):
         mrpp.solve(problem, "hstar", time_limit=0)
