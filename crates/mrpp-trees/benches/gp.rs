@@ -54,7 +54,11 @@ fn bench_gp(c: &mut Criterion) {
         b.iter(|| {
             population
                 .par_iter()
-                .map(|p| calculate_fitness(p, problems, &params, None, Deadline::none()).fitness)
+                .map(|p| {
+                    calculate_fitness(p, problems, &params, None, Deadline::none())
+                        .expect("no deadline")
+                        .fitness
+                })
                 .sum::<u64>()
         })
     });

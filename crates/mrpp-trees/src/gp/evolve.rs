@@ -198,20 +198,22 @@ impl Evaluation {
 
 /// `calculateFitness(ψ_k, X)` (Algorithm 1 line 7) under the budget `tau_b` (§4.3; `None` = ∞):
 /// example `n` runs for at most min(cap_n, τ_B − steps used so far), where cap_n is
-/// [`GpParams::example_cap`].
+/// [`GpParams::example_cap`]. `None` when `deadline` passed during a run (it is polled inside
+/// the simulation, every few hundred robot decisions): an interrupted evaluation has no fitness,
+/// and the remaining examples are not run.
 pub fn calculate_fitness(
     program: &Program,
     problems: &[Problem],
     params: &GpParams,
     tau_b: Option<u64>,
     deadline: Deadline,
-) -> Evaluation {
+) -> Option<Evaluation> {
     calculate_fitness_marking(program, problems, params, tau_b, deadline, &mut [])
 }
 
 /// [`calculate_fitness`], also setting in `reached` the program's nodes that some decision passed
 /// through on some example (a bitset over node indices; see [`run_program_marking`]; empty: no
-/// marking).
+/// marking). `None` when the deadline interrupted a run (`reached` is then meaningless).
 fn calculate_fitness_marking(
     program: &Program,
     problems: &[Problem],
@@ -219,7 +221,7 @@ fn calculate_fitness_marking(
     tau_b: Option<u64>,
     deadline: Deadline,
     reached: &mut [u64],
-) -> Evaluation {
+) -> Option<Evaluation> {
     let mut e = Evaluation {
         fitness: 0,
         steps: 0,
@@ -231,13 +233,13 @@ fn calculate_fitness_marking(
             None => own,
         };
         let out = run_program_marking(program, p, &params.sim, cap, deadline, reached);
+        if out.stop == Stop::TimeLimit {
+            return None;
+        }
         e.fitness = e.fitness.saturating_add(out.fitness);
         e.steps = e.steps.saturating_add(out.steps);
-        if out.stop == Stop::TimeLimit {
-            e.fitness = e.fitness.max(1);
-        }
     }
-    e
+    Some(e)
 }
 
 /// Reported after each evaluated generation.
@@ -288,7 +290,9 @@ pub struct GpResult {
 }
 
 /// Algorithm 1 on the fitness set `problems`. `progress` is called from the calling thread after
-/// every generation. Stops early at the deadline (keeping ψ* so far) and, when
+/// every generation. Stops early at the deadline (keeping ψ* so far; a generation in which the
+/// deadline interrupted any simulation is dropped whole, so no interrupted evaluation is ever
+/// taken for a fitness) and, when
 /// [`GpParams::stop_at_lower_bound`] is set, once ψ* is provably best.
 pub fn evolve(
     problems: &[Problem],
@@ -319,7 +323,7 @@ pub fn evolve(
                 stop = GpStop::TimeLimit;
                 break 'runs;
             }
-            let (gen_eval, fresh, heirs) = evaluate_population(
+            let Some((gen_eval, fresh, heirs)) = evaluate_population(
                 &pop,
                 &origins,
                 parents.as_ref().map(|(g, p)| (g, &p[..])),
@@ -328,12 +332,11 @@ pub fn evolve(
                 tau_b,
                 &mut cache,
                 deadline,
-            );
-            if deadline.expired() {
-                // Runs cut by the deadline may be incomplete: drop this generation.
+            ) else {
+                // A run cut by the deadline has no fitness: drop this generation.
                 stop = GpStop::TimeLimit;
                 break 'runs;
-            }
+            };
             evaluations += fresh;
             inherited += heirs;
             let evals = &gen_eval.evals;
@@ -477,7 +480,9 @@ fn carry_reached(reached: &[u64], edit: Edit, child_len: usize) -> Arc<[u64]> {
 /// τ_B, and a child whose edit lies in code its parent never reached (under the same τ_B), or
 /// swapped a subtree for an equal one, takes the parent's evaluation: its runs are the
 /// parent's, decision for decision. Returns the
-/// evaluations, the number of fresh simulations and the number of inherited evaluations.
+/// evaluations, the number of fresh simulations and the number of inherited evaluations, or
+/// `None` when the deadline interrupted a simulation (the remaining ones are not started, and
+/// nothing of this generation enters the cache).
 #[allow(clippy::too_many_arguments)]
 fn evaluate_population(
     pop: &[Program],
@@ -488,7 +493,7 @@ fn evaluate_population(
     tau_b: Option<u64>,
     cache: &mut Cache,
     deadline: Deadline,
-) -> (Evaluated, u64, u64) {
+) -> Option<(Evaluated, u64, u64)> {
     // Bound the cache's memory (it only saves time; clearing it changes no result).
     if cache.len() > 200_000 {
         cache.clear();
@@ -524,15 +529,22 @@ fn evaluate_population(
             todo.push(k);
         }
     }
+    // Collecting into an Option stops the other threads' work at the first `None`.
     let fresh: Vec<(Evaluation, Arc<[u64]>)> = todo
         .par_iter()
         .map(|&k| {
             let mut reached = vec![0u64; pop[k].len().div_ceil(64)];
-            let e =
-                calculate_fitness_marking(&pop[k], problems, params, tau_b, deadline, &mut reached);
-            (e, reached.into())
+            let e = calculate_fitness_marking(
+                &pop[k],
+                problems,
+                params,
+                tau_b,
+                deadline,
+                &mut reached,
+            )?;
+            Some((e, reached.into()))
         })
-        .collect();
+        .collect::<Option<_>>()?;
     let simulated = fresh.len() as u64;
     for (&k, v) in todo.iter().zip(fresh) {
         cache.insert(pop[k].genes().to_vec(), v);
@@ -542,7 +554,7 @@ fn evaluate_population(
         .zip(pop)
         .map(|(slot, p)| slot.unwrap_or_else(|| cache[p.genes()].clone()))
         .unzip();
-    (
+    Some((
         Evaluated {
             evals,
             reached,
@@ -550,7 +562,7 @@ fn evaluate_population(
         },
         simulated,
         inherited,
-    )
+    ))
 }
 
 /// Roulette over α_k = β_k / Σβ with β_k = 1 / (1 + F_k).
@@ -778,7 +790,8 @@ mod tests {
             &sim,
             None,
             Deadline::none(),
-        );
+        )
+        .unwrap();
         assert_eq!(e.fitness, 5);
         assert_eq!(e.steps, p.step_cap());
         // With a budget of 1 step: r0 at 1 (3 away), r1 at 3 (1 away): 9 + 1 = 10.
@@ -788,7 +801,8 @@ mod tests {
             &sim,
             Some(1),
             Deadline::none(),
-        );
+        )
+        .unwrap();
         assert_eq!(
             e1,
             Evaluation {
@@ -805,7 +819,8 @@ mod tests {
             &sim,
             None,
             Deadline::none(),
-        );
+        )
+        .unwrap();
         assert_eq!(
             e2,
             Evaluation {
@@ -815,8 +830,55 @@ mod tests {
         );
         // Two examples share the budget: 2 + 2 = 4 fits, 3 does not.
         let both = [p2.clone(), p2];
-        assert!(calculate_fitness(&prog, &both, &sim, Some(4), Deadline::none()).solved());
-        assert!(!calculate_fitness(&prog, &both, &sim, Some(3), Deadline::none()).solved());
+        assert!(
+            calculate_fitness(&prog, &both, &sim, Some(4), Deadline::none())
+                .unwrap()
+                .solved()
+        );
+        assert!(
+            !calculate_fitness(&prog, &both, &sim, Some(3), Deadline::none())
+                .unwrap()
+                .solved()
+        );
+    }
+
+    /// Issue 27 A: an evaluation whose deadline has passed reports that it was interrupted
+    /// instead of a fitness (before, it returned a made-up fitness of at least 1, or 0 for a
+    /// program that solved within the 256 steps between polls), and an evolution under such a
+    /// deadline evaluates no generation and finds no program.
+    #[test]
+    fn an_evaluation_past_its_deadline_has_no_fitness() {
+        let g = Graph::from_edges(5, &[(0, 1), (1, 2), (2, 3), (3, 4)]);
+        let inst = Instance::new(vec![0, 3], vec![2, 4]).unwrap();
+        let p = Problem::new(&g, &inst).unwrap();
+        let problems = std::slice::from_ref(&p);
+        let prog = Program::action(Action::MoveTowardObjective);
+        let params = GpParams::default();
+        let expired = Deadline::after(std::time::Duration::ZERO);
+        assert_eq!(
+            calculate_fitness(&prog, problems, &params, None, expired),
+            None
+        );
+        assert!(
+            calculate_fitness(&prog, problems, &params, None, Deadline::none())
+                .unwrap()
+                .solved()
+        );
+        let r = evolve(problems, &params, 1, expired, &mut |_| {
+            panic!("no generation is complete")
+        })
+        .unwrap();
+        assert_eq!(r.stop, GpStop::TimeLimit);
+        assert_eq!((r.best, r.generations, r.evaluations), (None, 0, 0));
+        // Cut inside the first generation's evaluations: the generation is dropped whole.
+        let mut cache = Cache::default();
+        let pop = initial_population(&params, 1, 0);
+        let origins = vec![Origin::New; pop.len()];
+        let cut = evaluate_population(
+            &pop, &origins, None, problems, &params, None, &mut cache, expired,
+        );
+        assert!(cut.is_none());
+        assert!(cache.is_empty(), "nothing interrupted is cached");
     }
 
     fn small_params() -> GpParams {
@@ -950,7 +1012,8 @@ mod tests {
                 tau,
                 Deadline::none(),
                 &mut reached,
-            );
+            )
+            .unwrap();
             (e, reached)
         };
         let mut rng = ChaCha8Rng::seed_from_u64(9);

@@ -138,14 +138,16 @@ pub fn gp_with_effort(
         Err(e) => return (Err(Unsolved::GaveUp(e.to_string())), (0, 0, 0)),
     };
     let effort = (result.generations, result.evaluations, result.inherited);
-    (solution_of(result, &problem, params), effort)
+    (solution_of(result, &problem, params, deadline), effort)
 }
 
-/// ψ*'s plan from an evolution's result (or why there is none).
+/// ψ*'s plan from an evolution's result (or why there is none). The replay that records the plan
+/// is under `deadline` too ([`Unsolved::TimeLimit`] when it passes first).
 fn solution_of(
     result: GpResult,
     problem: &Problem,
     params: &GpParams,
+    deadline: Deadline,
 ) -> Result<GpSolution, Unsolved> {
     let Some(program) = result.best.clone() else {
         return Err(if result.stop == GpStop::TimeLimit {
@@ -162,7 +164,10 @@ fn solution_of(
     let tau = result
         .best_steps
         .expect("a solving program has its step count");
-    let mut out = run_program(&program, problem, &params.sim, tau, true, Deadline::none());
+    let mut out = run_program(&program, problem, &params.sim, tau, true, deadline);
+    if out.stop == Stop::TimeLimit {
+        return Err(Unsolved::TimeLimit);
+    }
     if !out.solved() {
         return Err(Unsolved::GaveUp(format!(
             "internal error: ψ* did not repeat its {tau}-step solution"

@@ -29,6 +29,11 @@ const NONE: u32 = u32::MAX;
 /// Branch nodes cached per node, nearest first (bounds the cache at 64·|N| entries).
 const CACHED_BRANCHES: usize = 64;
 
+/// Robot decisions between two polls of the deadline (one decision is a fraction of a
+/// microsecond to a few microseconds, so a run notices its deadline within about a millisecond,
+/// however many robots a step moves, and a poll costs nothing measurable).
+const POLL_DECISIONS: u32 = 256;
+
 /// Trees of at most this many nodes get a next-hop table of |N|² entries (8 MiB at the limit);
 /// larger ones answer path questions from [`RootedTree`] (DFS intervals, O(log degree)).
 pub const HOP_TABLE_MAX_NODES: usize = 2048;
@@ -295,10 +300,9 @@ pub enum Stop {
     /// The step cap was reached.
     StepCap,
     /// The state at `step` repeats the one `period` steps before: the run would cycle until the cap.
-    Cycle {
-        step: u64,
-        period: u64,
-    },
+    Cycle { step: u64, period: u64 },
+    /// The deadline passed (or the memory limit was exceeded) before the run ended: the run is
+    /// incomplete, so it has neither a fitness nor a plan ([`Outcome::fitness`] is `u64::MAX`).
     TimeLimit,
 }
 
@@ -306,9 +310,11 @@ pub enum Stop {
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Outcome {
     pub stop: Stop,
-    /// Time steps used: the solve time τ when solved, else the cap.
+    /// Time steps used: the solve time τ when solved, the cap when the step cap or a cycle ended
+    /// the run, the steps completed when the deadline stopped it.
     pub steps: u64,
-    /// Equation (1): 0 when solved, else Σ_j dist(A(r_j, cap), g(r_j))².
+    /// Equation (1): 0 when solved, else Σ_j dist(A(r_j, cap), g(r_j))²; `u64::MAX` for a run
+    /// stopped by the deadline ([`Stop::TimeLimit`]), which has no fitness.
     pub fitness: u64,
     /// Positions of every robot at every step (only when asked for; up to the stop, not beyond a
     /// detected cycle).
@@ -321,7 +327,10 @@ impl Outcome {
     }
 }
 
-/// Runs `program` on `problem` for at most `cap` steps.
+/// Runs `program` on `problem` for at most `cap` steps, recording every robot's positions when
+/// `record` is set. The deadline is polled every few hundred robot decisions (within a time step
+/// too) and once before the run starts, so a run with an expired deadline stops at once with
+/// [`Stop::TimeLimit`] (unless every robot starts on its goal).
 pub fn run_program(
     program: &Program,
     problem: &Problem,
@@ -337,7 +346,7 @@ pub fn run_program(
 /// node indices, at least `program.len().div_ceil(64)` words, or empty for no marking; bits
 /// already set stay set) every node that some decision of the run passes through. A program that differs from `program` only
 /// inside a subtree whose root is not in `reached` makes the same decisions, so its run (and
-/// fitness) is identical. Not meaningful for a run stopped by the deadline.
+/// fitness) is identical. Not meaningful for a run stopped by the deadline ([`Stop::TimeLimit`]).
 pub fn run_program_marking(
     program: &Program,
     problem: &Problem,
@@ -359,6 +368,17 @@ fn run_marking(
     deadline: Deadline,
     reached: &mut [u64],
 ) -> Outcome {
+    // Before building the simulation (ball tables, bitsets), which takes a millisecond on trees
+    // of thousands of nodes: a generation cut by the deadline then ends without building one per
+    // program still to evaluate.
+    if problem.inst.starts != problem.inst.goals && deadline.expired() {
+        return Outcome {
+            stop: Stop::TimeLimit,
+            steps: 0,
+            fitness: u64::MAX,
+            paths: Vec::new(),
+        };
+    }
     match &problem.hops {
         Some(table) => Sim::new(problem, table, opts, record).run(program, cap, deadline, reached),
         None => Sim::new(problem, &problem.tree, opts, record).run(program, cap, deadline, reached),
@@ -366,7 +386,9 @@ fn run_marking(
 }
 
 /// Runs `program` with the paper's cap M and returns its plan when every robot visits its goal.
-/// The plan passes [`crate::validate_tree_plan`] (with following as in `opts`).
+/// The plan passes [`crate::validate_tree_plan`] (with following as in `opts`). Both the first
+/// run and the replay that records the plan are under `deadline`: [`Unsolved::TimeLimit`] when
+/// it passes in either.
 pub fn plan_program(
     program: &Program,
     problem: &Problem,
@@ -379,7 +401,10 @@ pub fn plan_program(
     let out = run_program(program, problem, opts, cap, false, deadline);
     match out.stop {
         Stop::Solved => {
-            let mut rec = run_program(program, problem, opts, out.steps, true, Deadline::none());
+            let mut rec = run_program(program, problem, opts, out.steps, true, deadline);
+            if rec.stop == Stop::TimeLimit {
+                return Err(Unsolved::TimeLimit);
+            }
             debug_assert_eq!(rec.stop, Stop::Solved);
             let plan = Plan::new(std::mem::take(&mut rec.paths));
             Ok((plan, rec))
@@ -426,6 +451,8 @@ struct Sim<'a, T: TreePaths> {
     unsolved: usize,
     record: bool,
     paths: Vec<Vec<VertexId>>,
+    /// Robot decisions left before the next poll of the deadline.
+    poll_in: u32,
     /// Where each robot's current path leads: `branch` when set, else its goal (kept in step with
     /// `s.branch` by [`Sim::set_path`]).
     tgt: Vec<VertexId>,
@@ -503,6 +530,7 @@ impl<'a, T: TreePaths> Sim<'a, T> {
             } else {
                 Vec::new()
             },
+            poll_in: POLL_DECISIONS,
             tgt: p.inst.goals.clone(),
             ball,
             ball_at,
@@ -528,11 +556,9 @@ impl<'a, T: TreePaths> Sim<'a, T> {
                 let f = self.p.squared_distances(&self.s.pos);
                 return self.outcome(Stop::StepCap, cap, f);
             }
-            if self.step % 256 == 255 && deadline.expired() {
-                let f = self.p.squared_distances(&self.s.pos);
-                return self.outcome(Stop::TimeLimit, self.step, f);
+            if !self.time_step(program, reached, deadline) {
+                return self.outcome(Stop::TimeLimit, self.step, u64::MAX);
             }
-            self.time_step(program, reached);
             if !self.o.detect_cycles || self.unsolved == 0 {
                 continue;
             }
@@ -545,7 +571,9 @@ impl<'a, T: TreePaths> Sim<'a, T> {
                     let ahead = (cap - at) % lam;
                     self.record = false;
                     for _ in 0..ahead {
-                        self.time_step(program, reached);
+                        if !self.time_step(program, reached, deadline) {
+                            return self.outcome(Stop::TimeLimit, self.step, u64::MAX);
+                        }
                     }
                 }
                 let f = self.p.squared_distances(&self.s.pos);
@@ -575,11 +603,20 @@ impl<'a, T: TreePaths> Sim<'a, T> {
         }
     }
 
-    /// One time step: every robot runs the program once, in id order.
-    fn time_step(&mut self, program: &Program, reached: &mut [u64]) {
+    /// One time step: every robot runs the program once, in id order. Polls `deadline` every
+    /// [`POLL_DECISIONS`] robot decisions (counted across steps); `false` when it has passed,
+    /// with the step left half done (the run is then abandoned).
+    fn time_step(&mut self, program: &Program, reached: &mut [u64], deadline: Deadline) -> bool {
         self.stamp += 1;
         let mark = !reached.is_empty();
         for i in 0..self.p.num_robots() {
+            self.poll_in -= 1;
+            if self.poll_in == 0 {
+                self.poll_in = POLL_DECISIONS;
+                if deadline.expired() {
+                    return false;
+                }
+            }
             let a = program.decide_visiting(
                 |c| self.test(c, i),
                 |k| {
@@ -596,6 +633,7 @@ impl<'a, T: TreePaths> Sim<'a, T> {
                 path.push(v);
             }
         }
+        true
     }
 
     // ---- robot state helpers ----
@@ -934,6 +972,59 @@ mod tests {
         assert_eq!(out2.stop, Stop::StepCap);
         assert_eq!(out2.fitness, 2);
         assert!(plan_program(&prog, &p, &SimOptions::default(), Deadline::none()).is_err());
+    }
+
+    /// Issue 27 A: a run given a deadline that has already passed stops before its first step
+    /// and says so; it never reports a fitness or a plan (before, the deadline was polled every
+    /// 256 steps only, so this run solved, and a step of many robots was never interrupted).
+    #[test]
+    fn a_run_with_an_expired_deadline_stops_and_reports_it() {
+        let expired = Deadline::after(std::time::Duration::ZERO);
+        assert!(expired.expired());
+        // A path 0-1-2-3 with a spur 1-4 that one step-toward-goal program solves in 3 steps.
+        let g = Graph::from_edges(5, &[(0, 1), (1, 2), (2, 3), (1, 4)]);
+        let inst = Instance::new(vec![0, 4], vec![3, 1]).unwrap();
+        let p = Problem::new(&g, &inst).unwrap();
+        let prog = Program::action(Action::MoveTowardObjective);
+        let opts = SimOptions::default();
+        for record in [false, true] {
+            let out = run_program(&prog, &p, &opts, 1000, record, expired);
+            assert_eq!(out.stop, Stop::TimeLimit);
+            assert!(!out.solved());
+            assert_eq!(out.fitness, u64::MAX, "an interrupted run has no fitness");
+        }
+        let mut reached = vec![0u64; 1];
+        let out = run_program_marking(&prog, &p, &opts, 1000, expired, &mut reached);
+        assert_eq!(out.stop, Stop::TimeLimit);
+        assert_eq!(
+            plan_program(&prog, &p, &opts, expired).unwrap_err(),
+            Unsolved::TimeLimit
+        );
+        // Without a deadline the same run solves.
+        assert!(run_program(&prog, &p, &opts, 1000, false, Deadline::none()).solved());
+    }
+
+    /// The deadline is polled inside a time step, not only between steps: a step of many robots
+    /// stops part way.
+    #[test]
+    fn one_time_step_of_many_robots_is_interrupted() {
+        // A path of 1200 nodes, 600 robots on its first half, goals on the second.
+        let n = 1200u32;
+        let edges: Vec<(u32, u32)> = (0..n - 1).map(|v| (v, v + 1)).collect();
+        let g = Graph::from_edges(n as usize, &edges);
+        let r = 600u32;
+        let inst = Instance::new((0..r).collect(), (0..r).map(|i| n - 1 - i).collect()).unwrap();
+        let p = Problem::new(&g, &inst).unwrap();
+        assert!(r as usize > POLL_DECISIONS as usize);
+        let prog = Program::action(Action::MoveTowardObjective);
+        let opts = SimOptions::default();
+        let expired = Deadline::after(std::time::Duration::ZERO);
+        let mut sim = Sim::new(&p, &p.tree, &opts, false);
+        assert!(!sim.time_step(&prog, &mut [], expired));
+        assert_eq!(sim.step, 0, "the step was left unfinished");
+        let mut sim = Sim::new(&p, &p.tree, &opts, false);
+        assert!(sim.time_step(&prog, &mut [], Deadline::none()));
+        assert_eq!(sim.step, 1);
     }
 
     #[test]
