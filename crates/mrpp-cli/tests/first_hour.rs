@@ -131,3 +131,92 @@ fn mixed_or_missing_inputs_and_negative_numbers_are_named() {
         assert!(!err.contains("unexpected argument"), "{err}");
     }
 }
+
+/// Item 2: the README's commands leave no trace and its picture is what its command draws. Every
+/// file a README command block writes (`--out X`, `> X`, a venv) is ignored by git, none is a
+/// tracked file; and `docs/warehouse-hstar.png` is byte for byte what the README's `solve` and
+/// `render` lines draw.
+#[test]
+fn readme_commands_leave_no_trace_and_its_picture_is_what_they_draw() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let blocks: Vec<&str> = readme
+        .split("```sh\n")
+        .skip(1)
+        .filter_map(|b| b.split("```").next())
+        .collect();
+    let mut written = Vec::new();
+    for line in blocks.iter().flat_map(|b| b.lines()) {
+        let words: Vec<&str> = line.split_whitespace().collect();
+        for w in words.windows(2) {
+            if ["--out", "-o", ">"].contains(&w[0]) && !w[1].starts_with('~') {
+                written.push(w[1].to_string());
+            }
+        }
+        if line.contains("python3 -m venv ") {
+            written.push(".venv/".into());
+        }
+    }
+    assert!(written.len() >= 3, "{written:?}");
+    let git = |args: &[&str]| {
+        std::process::Command::new("git")
+            .args(args)
+            .current_dir(&root)
+            .output()
+    };
+    if git(&["rev-parse", "--git-dir"]).is_ok_and(|o| o.status.success()) {
+        for path in &written {
+            let ignored = git(&["check-ignore", "-q", "--no-index", path]).unwrap();
+            assert!(
+                ignored.status.success(),
+                "the README writes {path}, which git does not ignore"
+            );
+        }
+    }
+    // The picture: the README's solve, then its render.
+    let dir = std::env::temp_dir().join(format!("mrpp-readme-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let data = root.join("data/hstar-paper/scenario3");
+    let (map, robots) = (data.join("scenery_warehouse.txt"), data.join("30warehouse"));
+    let run = |args: &[&str]| {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_mrpp"))
+            .args(args)
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        assert_eq!(
+            o.status.code(),
+            Some(0),
+            "{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+    };
+    let m = map.to_str().unwrap();
+    run(&[
+        "solve",
+        "--map",
+        m,
+        "--scen",
+        robots.to_str().unwrap(),
+        "--planner",
+        "hstar",
+        "--out",
+        "plan.json",
+    ]);
+    run(&[
+        "render",
+        "--map",
+        m,
+        "--plan",
+        "plan.json",
+        "--out",
+        "plan.png",
+    ]);
+    assert!(
+        std::fs::read(dir.join("plan.png")).unwrap()
+            == std::fs::read(root.join("docs/warehouse-hstar.png")).unwrap(),
+        "docs/warehouse-hstar.png is not what the README's commands draw: copy {} there",
+        dir.join("plan.png").display()
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
