@@ -69,8 +69,13 @@ fn problem_of(inputs: &Inputs) -> Result<(GridMap, PathBuf, MapfProblem, PathBuf
             inst.goals.truncate(n);
         }
         let note = format!(
-            " | LoRR {} one-shot: goal = first task{}",
-            p.version,
+            " | {} one-shot: goal = first task{}",
+            // The 2026 layout's `version` already says "LoRR" ("2026 LoRR").
+            if p.version.contains("LoRR") {
+                p.version.clone()
+            } else {
+                format!("LoRR {}", p.version)
+            },
             match p.skipped_tasks {
                 0 => String::new(),
                 k => format!(" ({k} task(s) passed over: first errand already a goal)"),

@@ -165,7 +165,8 @@ enum Command {
         #[arg(long, default_value_t = 0)]
         port: u16,
     },
-    /// Draw a plan (map, starts, goals, paths) as an SVG picture.
+    /// Draw a plan (map, starts, goals, paths): an SVG picture, a PNG, or an animated GIF, by
+    /// --out's extension.
     #[command(
         after_help = "Examples (from the repository's root):\n  mrpp render -m data/movingai/random-32-32-20.map --plan plan.json -o plan.png\n  mrpp render -m data/movingai/random-32-32-20.map --plan plan.json -o plan.gif"
     )]

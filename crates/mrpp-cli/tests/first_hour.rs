@@ -220,3 +220,36 @@ fn readme_commands_leave_no_trace_and_its_picture_is_what_they_draw() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Item 12: the 2026 LoRR header said "LoRR 2026 LoRR"; `render --help` said "an SVG picture".
+#[test]
+fn headers_and_help_say_what_is_done() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..");
+    let problem = root.join("data/robot-runners/lorr2026-maze/maze-example_40.json");
+    let out = std::env::temp_dir().join(format!("mrpp-header-{}.json", std::process::id()));
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_mrpp"))
+        .args([
+            "solve",
+            "--lorr",
+            problem.to_str().unwrap(),
+            "-P",
+            "pibt",
+            "-o",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("| 2026 LoRR one-shot"), "{stdout}");
+    assert!(!stdout.contains("LoRR 2026 LoRR"), "{stdout}");
+    let _ = std::fs::remove_file(&out);
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_mrpp"))
+        .args(["render", "--help"])
+        .output()
+        .unwrap();
+    let help = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        help.contains("an SVG picture, a PNG, or an animated GIF"),
+        "{help}"
+    );
+}
