@@ -253,3 +253,45 @@ fn headers_and_help_say_what_is_done() {
         "{help}"
     );
 }
+
+/// Item 8 (part): a bad `-p` value says what the value must be, not Rust's type name ("not a
+/// valid u32/usize").
+#[test]
+fn bad_parameter_values_say_what_they_must_be() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/movingai");
+    let (m, i) = (
+        root.join("random-32-32-20.map"),
+        root.join("random-32-32-20-random-1.scen"),
+    );
+    for (planner, param, says) in [
+        (
+            "pibt",
+            "max_steps=-3",
+            "max_steps=-3 is not a whole number from 0",
+        ),
+        (
+            "lacam",
+            "restart_rate=abc",
+            "restart_rate=abc is not a number",
+        ),
+    ] {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_mrpp"))
+            .args([
+                "solve",
+                "-m",
+                m.to_str().unwrap(),
+                "-i",
+                i.to_str().unwrap(),
+            ])
+            .args(["-N", "5", "-P", planner, "-p", param, "-o", "-"])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{err}");
+        assert!(err.contains(says), "{err}");
+        assert!(
+            !err.contains("u32") && !err.contains("usize") && !err.contains("f64"),
+            "{err}"
+        );
+    }
+}

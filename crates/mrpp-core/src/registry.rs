@@ -103,12 +103,9 @@ impl Params {
         let raw = self.raw(key);
         raw.parse().map_err(|_| {
             Error::Param(format!(
-                "planner `{}`: parameter {key}={raw} is not a valid {}",
+                "planner `{}`: parameter {key}={raw} is not {}",
                 self.planner,
-                std::any::type_name::<T>()
-                    .rsplit("::")
-                    .next()
-                    .unwrap_or("value")
+                what_is::<T>()
             ))
         })
     }
@@ -150,6 +147,17 @@ impl Params {
     /// Whether the user set `key` (as opposed to its default).
     pub fn is_given(&self, key: &str) -> bool {
         self.given.iter().any(|k| k == key)
+    }
+}
+
+/// What a value of type `T` is, in words a user reads (not Rust's type names).
+fn what_is<T>() -> &'static str {
+    match std::any::type_name::<T>() {
+        "u8" | "u16" | "u32" | "u64" | "u128" | "usize" => "a whole number from 0",
+        "i8" | "i16" | "i32" | "i64" | "i128" | "isize" => "a whole number",
+        "f32" | "f64" => "a number",
+        "bool" => "true or false",
+        _ => "a valid value",
     }
 }
 
