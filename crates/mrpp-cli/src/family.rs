@@ -526,18 +526,22 @@ fn solve_with<P: Problem + 'static>(def: &Def<P>, req: &SolveRequest) -> Result<
         }
     }
     let run = run_planner(def, req, true)?;
-    report(&run.outcome, run.runtime_ms, &run.planner, &run.notes)?;
-    detail!(
-        "{} notes: {}",
-        run.planner,
-        Value::Object(run.notes.clone())
-    );
+    report(
+        &run.loaded.problem,
+        &run.outcome,
+        run.runtime_ms,
+        &run.planner,
+        &run.notes,
+    )?;
     write_outputs(&run.loaded, req, run.info, &run.outcome, run.notes)?;
     Ok(if run.outcome.is_ok() { 0 } else { 3 })
 }
 
-/// Prints the outcome line (and the planner's short notes); an invalid plan is an error.
+/// Prints the outcome line, with each metric's lower bound where the problem knows one, and
+/// the planner's notes: the short ones by default, all of them (once) with `-v`. An invalid plan
+/// is an error.
 fn report<P: Problem>(
+    problem: &P,
     outcome: &Outcome<P>,
     runtime_ms: f64,
     planner: &str,
@@ -545,17 +549,32 @@ fn report<P: Problem>(
 ) -> Result<(), Fail> {
     match outcome {
         Ok(s) => say!(
-            "solved: {} | runtime {runtime_ms:.1} ms",
-            pairs(&metrics_object(&s.metrics))
+            "solved: {} | runtime {} ms",
+            crate::output::metrics_with_bounds(
+                &metrics_object(&s.metrics),
+                &if crate::output::verbosity() >= 1 {
+                    problem.lower_bounds()
+                } else {
+                    Vec::new()
+                }
+            ),
+            crate::output::number(runtime_ms)
         ),
         Err(Unsolved::Invalid(why)) => {
             return Err(Fail(format!("invalid plan (a bug in mrpp): {why}")));
         }
-        Err(why) => say!("not solved: {why} | runtime {runtime_ms:.1} ms"),
+        Err(why) => say!(
+            "not solved: {why} | runtime {} ms",
+            crate::output::number(runtime_ms)
+        ),
     }
-    let short = pairs(notes);
-    if !short.is_empty() {
-        say!("{planner}: {short}");
+    if crate::output::verbosity() >= 2 {
+        detail!("{planner} notes: {}", Value::Object(notes.clone()));
+    } else {
+        let short = pairs(notes);
+        if !short.is_empty() {
+            say!("{planner}: {short}");
+        }
     }
     Ok(())
 }
@@ -636,6 +655,8 @@ fn validate_with<P: Problem + 'static>(
          the validator's",
         def.name
     );
+    // Every digit, for scripts (the summary line rounds).
+    detail!("metrics: {}", Value::Object(c.metrics.clone()));
     say!(
         "valid: {} agents | {}{}",
         c.agents,

@@ -393,14 +393,54 @@ pub(crate) fn file_name(path: &Path) -> String {
 }
 
 /// `key value | key value ...` of a JSON object's short values (strings over 40 characters,
-/// arrays and objects left out), in the object's order.
+/// arrays and objects left out), in the object's order; numbers as [`number`] writes them.
 pub(crate) fn pairs(values: &Map<String, Value>) -> String {
     values
         .iter()
         .filter_map(|(k, v)| match v {
             Value::String(s) if s.len() <= 40 => Some(format!("{k} {s}")),
-            Value::Number(_) | Value::Bool(_) => Some(format!("{k} {v}")),
+            Value::Number(n) => Some(format!("{k} {}", number(n.as_f64()?))),
+            Value::Bool(_) => Some(format!("{k} {v}")),
             _ => None,
+        })
+        .collect::<Vec<_>>()
+        .join(" | ")
+}
+
+/// A number for a person: whole numbers as they are, others with 1 decimal from 100 on, 2 from
+/// 1 on and 3 below (files keep every digit; summaries need no 16).
+pub(crate) fn number(v: f64) -> String {
+    if v.fract() == 0.0 && v.abs() < 1e15 {
+        format!("{v:.0}")
+    } else if v.abs() >= 100.0 {
+        format!("{v:.1}")
+    } else if v.abs() >= 1.0 {
+        format!("{v:.2}")
+    } else {
+        format!("{v:.3}")
+    }
+}
+
+/// [`pairs`] of a solved plan's metrics, each with its lower bound and the excess over it where
+/// the problem knows one (`sum_of_costs 2892 (lower bound 2185, +32.4%)`).
+pub(crate) fn metrics_with_bounds(metrics: &Map<String, Value>, bounds: &[(&str, f64)]) -> String {
+    metrics
+        .iter()
+        .filter_map(|(k, v)| {
+            let text = pairs(&Map::from_iter([(k.clone(), v.clone())]));
+            if text.is_empty() {
+                return None;
+            }
+            let bound = bounds.iter().find(|(name, _)| name == k).map(|b| b.1);
+            Some(match (bound, v.as_f64()) {
+                (Some(b), Some(x)) if b > 0.0 => format!(
+                    "{text} (lower bound {}, +{:.1}%)",
+                    number(b),
+                    (x / b - 1.0) * 100.0
+                ),
+                (Some(b), Some(_)) => format!("{text} (lower bound {})", number(b)),
+                _ => text,
+            })
         })
         .collect::<Vec<_>>()
         .join(" | ")

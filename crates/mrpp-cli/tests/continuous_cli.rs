@@ -32,17 +32,16 @@ fn mrpp(args: &[&str]) -> (i32, String, String) {
 }
 
 /// The value after `key ` in a `a 1 | b 2` summary line.
-fn metric(line: &str, key: &str) -> f64 {
-    line.split(" | ")
-        .find_map(|p| {
-            p.trim()
-                .split_once(' ')
-                .filter(|(k, _)| k.ends_with(key))
-                .map(|(_, v)| v)
-        })
-        .unwrap_or_else(|| panic!("no {key} in `{line}`"))
-        .parse()
-        .unwrap()
+/// A metric of `validate -v`'s `metrics: {...}` line (every digit; the summary line rounds).
+fn metric(out: &str, key: &str) -> f64 {
+    let json = out
+        .lines()
+        .find_map(|l| l.strip_prefix("metrics: "))
+        .unwrap_or_else(|| panic!("no metrics line in `{out}`"));
+    let v: serde_json::Value = serde_json::from_str(json).unwrap();
+    v[key]
+        .as_f64()
+        .unwrap_or_else(|| panic!("no {key} in `{json}`"))
 }
 
 #[test]
@@ -63,9 +62,16 @@ fn planners_plans_validate_and_render() {
             out.to_str().unwrap(),
         ]);
         assert_eq!(code, 0, "{planner}: {stdout}{err}");
-        let (code, valid, err) = mrpp(&["validate", "--world", w, "--plan", out.to_str().unwrap()]);
+        let (code, valid, err) = mrpp(&[
+            "validate",
+            "-v",
+            "--world",
+            w,
+            "--plan",
+            out.to_str().unwrap(),
+        ]);
         assert_eq!(code, 0, "{planner}: {err}");
-        assert!(valid.starts_with("valid: 6 agents"), "{valid}");
+        assert!(valid.contains("valid: 6 agents"), "{valid}");
         {
             let o = Command::new("python3")
                 .arg(&checker)

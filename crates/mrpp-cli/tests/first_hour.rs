@@ -295,3 +295,65 @@ fn bad_parameter_values_say_what_they_must_be() {
         );
     }
 }
+
+/// Item 10: summaries give a yardstick (the lower bounds `mrpp info` knows, with the excess over
+/// them), numbers a person reads (no 16 digits), and `-v` prints the planner's notes once.
+#[test]
+fn summaries_state_lower_bounds_and_round_numbers() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data");
+    let run = |args: &[&str]| {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_mrpp"))
+            .args(args)
+            .output()
+            .unwrap();
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    let lorr = root.join("robot-runners/lorr2026-maze/maze-example_40.json");
+    let out = std::env::temp_dir().join(format!("mrpp-summary-{}.json", std::process::id()));
+    let o = out.to_str().unwrap();
+    let grid = run(&[
+        "solve",
+        "--lorr",
+        lorr.to_str().unwrap(),
+        "-P",
+        "pibt",
+        "-o",
+        o,
+    ]);
+    assert!(
+        grid.contains("sum_of_costs 2892 (lower bound 2185, +32.4%)")
+            && grid.contains("makespan 121 (lower bound 117, +3.4%)"),
+        "{grid}"
+    );
+    let world = root.join("continuous/six-robots-four-obstacles.json");
+    let cont = run(&[
+        "solve",
+        "--world",
+        world.to_str().unwrap(),
+        "-P",
+        "orca",
+        "-o",
+        o,
+    ]);
+    let solved = cont.lines().find(|l| l.starts_with("solved:")).unwrap();
+    for number in solved.split(' ').filter_map(|w| w.parse::<f64>().ok()) {
+        let decimals = number.to_string().split('.').nth(1).map_or(0, str::len);
+        assert!(decimals <= 3, "{solved}");
+    }
+    let verbose = run(&[
+        "solve",
+        "-v",
+        "--lorr",
+        lorr.to_str().unwrap(),
+        "-P",
+        "lacam",
+        "-o",
+        o,
+    ]);
+    assert_eq!(
+        verbose.lines().filter(|l| l.starts_with("lacam")).count(),
+        1,
+        "{verbose}"
+    );
+    let _ = std::fs::remove_file(&out);
+}

@@ -31,22 +31,16 @@ fn mrpp(args: &[&str]) -> (i32, String, String) {
     )
 }
 
-fn c_max(line: &str) -> f64 {
-    line.split(" | ")
-        .find_map(|p| {
-            p.trim()
-                .trim_start_matches("solved: ")
-                .trim_start_matches("valid: 3 agents")
-                .strip_prefix("c_max ")
-        })
-        .or_else(|| {
-            line.split("c_max ")
-                .nth(1)
-                .and_then(|r| r.split(' ').next())
-        })
-        .unwrap_or_else(|| panic!("no c_max in `{line}`"))
-        .parse()
-        .unwrap()
+/// `c_max` of `validate -v`'s `metrics: {...}` line (every digit; the summary line rounds).
+fn c_max(out: &str) -> f64 {
+    let json = out
+        .lines()
+        .find_map(|l| l.strip_prefix("metrics: "))
+        .unwrap_or_else(|| panic!("no metrics line in `{out}`"));
+    let v: serde_json::Value = serde_json::from_str(json).unwrap();
+    v["c_max"]
+        .as_f64()
+        .unwrap_or_else(|| panic!("no c_max in `{json}`"))
 }
 
 #[test]
@@ -67,6 +61,7 @@ fn planners_plans_validate_and_agree_with_the_checker() {
         assert_eq!(code, 0, "{planner}: {stdout}{err}");
         let (code, valid, err) = mrpp(&[
             "validate",
+            "-v",
             "--formation",
             f,
             "--plan",

@@ -107,6 +107,13 @@ pub trait Problem: Send + Sync {
     fn instance_rules(&self) -> Result<(), String> {
         Ok(())
     }
+    /// Lower bounds that every valid plan's metrics meet, as `(metric name, bound)` in the
+    /// units of [`Problem::Metrics`] (e.g. the sum and the largest of the agents' start-goal
+    /// distances for MAPF's sum of costs and makespan): the yardstick a summary states beside a
+    /// plan's metrics. Default: none known.
+    fn lower_bounds(&self) -> Vec<(&'static str, f64)> {
+        Vec::new()
+    }
     /// Puts a plan in canonical form before it is validated and returned (default: as is), e.g.
     /// drops trailing waits that carry no information.
     fn canonical(&self, plan: Self::Plan) -> Self::Plan {

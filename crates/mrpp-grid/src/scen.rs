@@ -246,25 +246,15 @@ pub fn random_map_text(
 
 /// `inst` as a MovingAI `.scen` (`version 1`; bucket = distance / 4; the last field is the
 /// 4-connected shortest distance, where MovingAI's own files give the octile one; `u32::MAX` when
-/// the goal cannot be reached). Each distance is an A* search with the Manhattan distance as its
-/// heuristic (a breadth-first search over the whole map per agent took 67 s for 2,000 agents on
-/// a 1000 x 1000 map).
+/// the goal cannot be reached). Each distance is one A* search
+/// ([`mrpp_core::mapf::search::distance::shortest_distance`]; a breadth-first search over the
+/// whole map per agent took 67 s for 2,000 agents on a 1000 x 1000 map).
 pub fn scen_text(map: &GridMap, map_file: &str, inst: &Instance) -> String {
     use std::fmt::Write as _;
     let g = map.graph();
     let mut s = String::from("version 1\n");
     for (&a, &b) in inst.starts.iter().zip(&inst.goals) {
-        let (bx, by) = map.cell(b);
-        let d = pathfinding::directed::astar::astar(
-            &a,
-            |&v| g.neighbors(v).iter().map(|&w| (w, 1u32)),
-            |&v| {
-                let (x, y) = map.cell(v);
-                x.abs_diff(bx) + y.abs_diff(by)
-            },
-            |&v| v == b,
-        )
-        .map_or(u32::MAX, |(_, d)| d);
+        let d = mrpp_core::mapf::search::distance::shortest_distance(g, a, b).unwrap_or(u32::MAX);
         let ((sx, sy), (gx, gy)) = (map.cell(a), map.cell(b));
         let _ = writeln!(
             s,

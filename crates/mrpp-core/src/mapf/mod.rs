@@ -98,6 +98,16 @@ impl Problem for MapfProblem {
         self.instance.check()
     }
 
+    /// Each agent alone on the graph: the sum and the largest of the start-goal distances
+    /// bound the sum of costs and the makespan (none when a goal cannot be reached).
+    fn lower_bounds(&self) -> Vec<(&'static str, f64)> {
+        let i = &self.instance;
+        match search::distance::lower_bounds(&self.graph, &i.starts, &i.goals) {
+            Ok((sum, max)) => vec![("sum_of_costs", sum as f64), ("makespan", max as f64)],
+            Err(_) => Vec::new(),
+        }
+    }
+
     fn validate(&self, plan: &Plan) -> Result<Metrics, MapfViolation> {
         plan::judge(&self.graph, &self.instance, self.rules, plan).map_err(|violation| {
             MapfViolation {

@@ -542,8 +542,24 @@ pub fn descend_weighted(
     route
 }
 
+/// The hop distance from `from` to `to`, or `None` when `to` cannot be reached: an A* search
+/// (the `pathfinding` crate's) with the Manhattan distance of the vertices' cells as its
+/// heuristic, admissible on 4-connected grid graphs (0 on graphs without coordinates, where it
+/// is a breadth-first search). On a 1000 x 1000 map a query explores a narrow band around a
+/// shortest path instead of the whole map.
+pub fn shortest_distance(g: &Graph, from: VertexId, to: VertexId) -> Option<u32> {
+    pathfinding::directed::astar::astar(
+        &from,
+        |&v| g.neighbors(v).iter().map(|&w| (w, 1u32)),
+        |&v| g.manhattan(v, to),
+        |&v| v == to,
+    )
+    .map(|(_, d)| d)
+}
+
 /// Lower bounds that any valid plan meets: the sum and the maximum over agents of the start–goal
-/// distance (each agent alone on the map). `Err(i)` when agent `i` cannot reach its goal.
+/// distance (each agent alone on the map; [`shortest_distance`]). `Err(i)` when agent `i` cannot
+/// reach its goal.
 pub fn lower_bounds(
     g: &Graph,
     starts: &[VertexId],
@@ -552,10 +568,9 @@ pub fn lower_bounds(
     let mut sum = 0u64;
     let mut max = 0u64;
     for (i, (&s, &goal)) in starts.iter().zip(goals).enumerate() {
-        let d = bfs_distances(g, goal)[s as usize];
-        if d == UNREACHABLE {
+        let Some(d) = shortest_distance(g, s, goal) else {
             return Err(i);
-        }
+        };
         sum += u64::from(d);
         max = max.max(u64::from(d));
     }
@@ -565,6 +580,47 @@ pub fn lower_bounds(
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn shortest_distance_is_the_breadth_first_one() {
+        // 12 x 9 grids with pseudo-random walls (some vertices cut off), every vertex pair.
+        for seed in 0..4u32 {
+            let (w, h) = (12u32, 9u32);
+            let free = |x: u32, y: u32| !(x * 7 + y * 13 + seed * 5).is_multiple_of(9);
+            let mut id = vec![None; (w * h) as usize];
+            let mut coords = Vec::new();
+            for y in 0..h {
+                for x in 0..w {
+                    if free(x, y) {
+                        id[(y * w + x) as usize] = Some(coords.len() as VertexId);
+                        coords.push((x, y));
+                    }
+                }
+            }
+            let adj: Vec<Vec<VertexId>> = coords
+                .iter()
+                .map(|&(x, y)| {
+                    [(1i64, 0i64), (-1, 0), (0, 1), (0, -1)]
+                        .iter()
+                        .filter_map(|&(dx, dy)| {
+                            let (nx, ny) = (i64::from(x) + dx, i64::from(y) + dy);
+                            (nx >= 0 && ny >= 0 && nx < i64::from(w) && ny < i64::from(h))
+                                .then(|| id[(ny as u32 * w + nx as u32) as usize])
+                                .flatten()
+                        })
+                        .collect()
+                })
+                .collect();
+            let g = Graph::from_adjacency(&adj, Some(coords));
+            for t in 0..g.num_vertices() as VertexId {
+                let table = bfs_distances(&g, t);
+                for s in 0..g.num_vertices() as VertexId {
+                    let want = Some(table[s as usize]).filter(|&d| d != UNREACHABLE);
+                    assert_eq!(shortest_distance(&g, s, t), want, "seed {seed}: {s} -> {t}");
+                }
+            }
+        }
+    }
 
     #[test]
     fn lazy_tables_equal_full_bfs_in_any_query_order() {
