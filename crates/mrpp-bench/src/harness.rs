@@ -362,6 +362,14 @@ fn find_parts(dirs: &[PathBuf]) -> Result<Vec<(PathBuf, Manifest)>> {
             .filter(|n| n.starts_with("part-") && n.ends_with(".jsonl"))
             .collect();
         names.sort();
+        // A folder without parts beside folders with them is a wrong argument (a typo, a part
+        // that never ran), not something to merge around.
+        if names.is_empty() {
+            return Err(Error::invalid(
+                dir,
+                "no part-i-of-N.jsonl files in this folder: give only folders that hold parts",
+            ));
+        }
         for name in names {
             let tag = &name["part-".len()..name.len() - ".jsonl".len()];
             let mpath = dir.join(format!("manifest-{tag}.json"));
@@ -371,10 +379,8 @@ fn find_parts(dirs: &[PathBuf]) -> Result<Vec<(PathBuf, Manifest)>> {
         }
     }
     if parts.is_empty() {
-        let dir = dirs.first().cloned().unwrap_or_default();
-        return Err(Error::invalid(
-            &dir,
-            "no part-i-of-N.jsonl files in the given folders",
+        return Err(Error::Param(
+            "bench merge: give the folders that hold the parts".into(),
         ));
     }
     Ok(parts)

@@ -97,6 +97,21 @@ fn sharded_paper_table_merges_to_the_whole() {
         manifest.contains("merged from 3 parts") && manifest.contains("gp-table3"),
         "{manifest}"
     );
+    // A folder without parts beside the good one is refused, naming it (issue 30, item 12),
+    // and so is merging into one of the parts' folders (issue 27: they are inputs).
+    let empty = dir.join("empty");
+    std::fs::create_dir_all(&empty).unwrap();
+    let again = dir.join("again");
+    let (_, err) = mrpp(
+        &["bench", "merge", "--out", s(&again), s(&parts), s(&empty)],
+        1,
+    );
+    assert!(
+        err.contains("empty: no part-i-of-N.jsonl files in this folder"),
+        "{err}"
+    );
+    let (_, err) = mrpp(&["bench", "merge", "--out", s(&parts), s(&parts)], 1);
+    assert!(err.contains("input folder"), "{err}");
     // A missing shard is named, and nothing is written.
     std::fs::remove_file(parts.join("part-2-of-3.jsonl")).unwrap();
     let again = dir.join("again");
