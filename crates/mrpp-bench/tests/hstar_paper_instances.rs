@@ -44,7 +44,9 @@ fn paper_variant_never_returns_an_invalid_plan() {
             Err(Unsolved::GaveUp(why)) => {
                 eprintln!("paper SC{} {}: not solved: {why}", pi.scenario, pi.label)
             }
-            Err(Unsolved::TimeLimit | Unsolved::MemoryLimit) => panic!("no limit was set"),
+            Err(Unsolved::TimeLimit | Unsolved::MemoryLimit | Unsolved::Interrupted) => {
+                panic!("no limit was set")
+            }
             Err(Unsolved::Invalid(why)) => panic!("not through solve, so never Invalid: {why}"),
         }
     }

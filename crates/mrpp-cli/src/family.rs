@@ -534,6 +534,10 @@ fn solve_with<P: Problem + 'static>(def: &Def<P>, req: &SolveRequest) -> Result<
         &run.notes,
     )?;
     write_outputs(&run.loaded, req, run.info, &run.outcome, run.notes)?;
+    if mrpp_core::stop_requested() {
+        say!("interrupted: what was found before Ctrl-C is written (status interrupted)");
+        return Ok(130);
+    }
     Ok(if run.outcome.is_ok() { 0 } else { 3 })
 }
 
@@ -592,7 +596,13 @@ fn write_outputs<P: Problem>(
         .and_then(Value::as_str)
         .map(str::to_string);
     if let Some(out) = &req.out {
-        let text = (loaded.write)(&loaded.problem, info, outcome, notes, req.format)?;
+        let mut text = (loaded.write)(&loaded.problem, info, outcome, notes, req.format)?;
+        if outcome.is_ok() && mrpp_core::stop_requested() && req.format == Format::Json {
+            // A plan found before Ctrl-C (an anytime planner's best so far) is valid but says so.
+            let mut env = mrpp_core::envelope::Envelope::<Value>::parse(&text, out)?;
+            env.status = "interrupted".into();
+            text = env.to_json();
+        }
         write_atomic(out, &text)?;
         say!("plan written to {}", out.display());
     }

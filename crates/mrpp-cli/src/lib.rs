@@ -275,11 +275,22 @@ pub fn main() -> ExitCode {
         Some(mb) => Some(mb.saturating_mul(1 << 20)),
         None => mrpp_core::memory::default_limit(),
     });
+    // Ctrl-C: the first asks every planner to stop as at its deadline (anytime planners write
+    // their best plan, sweeps keep their finished jobs); a second quits at once.
+    let _ = ctrlc::set_handler(|| {
+        if mrpp_core::stop_requested() {
+            std::process::exit(130);
+        }
+        mrpp_core::request_stop();
+        eprintln!(
+            "\nmrpp: interrupted: stopping and keeping what is done (Ctrl-C again quits at once)"
+        );
+    });
     match run(cli.command) {
         Ok(code) => ExitCode::from(code),
         Err(Fail(msg)) => {
             eprintln!("mrpp: error: {msg}");
-            ExitCode::from(1)
+            ExitCode::from(if mrpp_core::stop_requested() { 130 } else { 1 })
         }
     }
 }

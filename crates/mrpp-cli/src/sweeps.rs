@@ -126,6 +126,11 @@ fn run_jobs<S: Sweep>(
     }
     let jobs = Jobs::new(mine - previous.len(), unit);
     let sink = |j: usize, row: &S::Row| -> mrpp_core::Result<()> {
+        // After Ctrl-C a job's row may come from a cut-short run: not recorded, so that the
+        // rerun runs that job again.
+        if mrpp_core::stop_requested() {
+            return Err(mrpp_core::Error::Param("interrupted".into()));
+        }
         // A peer whose command failed is said at once, not only in records.csv.
         for r in sweep
             .records(row)
@@ -148,7 +153,18 @@ fn run_jobs<S: Sweep>(
                 source: e,
             })
     };
-    let (rows, wall) = run_shard(sweep, shard, previous, &|t| jobs.tick(t.key), &sink)?;
+    let (rows, wall) =
+        run_shard(sweep, shard, previous, &|t| jobs.tick(t.key), &sink).map_err(|e| {
+            if mrpp_core::stop_requested() {
+                jobs.finish();
+                Fail(format!(
+                    "interrupted: the jobs finished before Ctrl-C are kept in {}; run the same command again to resume",
+                    progress.display()
+                ))
+            } else {
+                Fail::from(e)
+            }
+        })?;
     jobs.finish();
     let manifest = Manifest {
         sweep: sweep.name().to_string(),

@@ -357,3 +357,89 @@ fn summaries_state_lower_bounds_and_round_numbers() {
     );
     let _ = std::fs::remove_file(&out);
 }
+
+/// Sends SIGINT (Ctrl-C) to `child` after `secs` seconds and waits for it: `(exit code, stderr)`.
+fn interrupt_after(mut child: std::process::Child, secs: f64) -> (Option<i32>, String) {
+    std::thread::sleep(std::time::Duration::from_secs_f64(secs));
+    std::process::Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .unwrap();
+    let started = std::time::Instant::now();
+    let status = child.wait().unwrap();
+    assert!(
+        started.elapsed().as_secs_f64() < 20.0,
+        "Ctrl-C did not stop it"
+    );
+    let mut err = String::new();
+    use std::io::Read as _;
+    child
+        .stderr
+        .take()
+        .unwrap()
+        .read_to_string(&mut err)
+        .unwrap();
+    (status.code(), err)
+}
+
+/// Item 12: Ctrl-C in LaCAM* writes its best plan so far (valid, `status: interrupted`), and an
+/// interrupted experiment says how to resume and keeps only jobs that finished before it.
+#[test]
+fn ctrl_c_keeps_the_best_plan_and_says_how_to_resume() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/movingai");
+    let (m, i) = (
+        root.join("random-32-32-20.map"),
+        root.join("random-32-32-20-random-1.scen"),
+    );
+    let dir = std::env::temp_dir().join(format!("mrpp-ctrl-c-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let plan = dir.join("plan.json");
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_mrpp"))
+        .args([
+            "solve",
+            "-m",
+            m.to_str().unwrap(),
+            "-i",
+            i.to_str().unwrap(),
+            "-N",
+            "200",
+        ])
+        .args(["-P", "lacam", "-p", "anytime=true", "-t", "60", "-o"])
+        .arg(&plan)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let (code, err) = interrupt_after(child, 3.0);
+    assert_eq!(code, Some(130), "{err}");
+    let text = std::fs::read_to_string(&plan).unwrap();
+    assert!(text.contains("\"status\": \"interrupted\""), "{text}");
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_mrpp"))
+        .args(["validate", "-m", m.to_str().unwrap(), "--plan"])
+        .arg(&plan)
+        .output()
+        .unwrap();
+    assert_eq!(
+        o.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    // An experiment: stopped, it names its progress file and how to resume.
+    let out = dir.join("exp");
+    let child = std::process::Command::new(env!("CARGO_BIN_EXE_mrpp"))
+        .args(["experiment", "hstar-table2", "--runs", "3", "-o"])
+        .arg(&out)
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .unwrap();
+    let (code, err) = interrupt_after(child, 3.0);
+    assert_eq!(code, Some(130), "{err}");
+    assert!(
+        err.contains("run the same command again to resume") && err.contains("progress-1-of-1-"),
+        "{err}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -36,7 +36,9 @@ fn planners_emit_only_valid_plans_on_random_worlds() {
                             "{why}"
                         )
                     }
-                    Err(Unsolved::TimeLimit | Unsolved::MemoryLimit) => panic!("no limit was set"),
+                    Err(Unsolved::TimeLimit | Unsolved::MemoryLimit | Unsolved::Interrupted) => {
+                        panic!("no limit was set")
+                    }
                 }
             }
         }

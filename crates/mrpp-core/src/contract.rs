@@ -19,11 +19,29 @@ impl Deadline {
     pub fn after(limit: Duration) -> Self {
         Deadline(Instant::now().checked_add(limit))
     }
-    /// Whether the limit has passed, or the process's memory limit is exceeded
-    /// ([`crate::memory`]): every planner stops at either the same way.
+    /// Whether the limit has passed, the process's memory limit is exceeded
+    /// ([`crate::memory`]) or a stop was requested ([`request_stop`], e.g. Ctrl-C): every
+    /// planner stops at any of them the same way (anytime planners with their best plan).
     pub fn expired(&self) -> bool {
-        self.0.is_some_and(|d| Instant::now() >= d) || crate::memory::over_limit()
+        self.0.is_some_and(|d| Instant::now() >= d)
+            || crate::memory::over_limit()
+            || STOP.load(std::sync::atomic::Ordering::Relaxed)
     }
+}
+
+/// Set by [`request_stop`].
+static STOP: std::sync::atomic::AtomicBool = std::sync::atomic::AtomicBool::new(false);
+
+/// Asks every running planner to stop as at its deadline, for good (the binary calls it on
+/// Ctrl-C): [`Deadline::expired`] answers `true` from now on, and [`solve`] reports
+/// [`Unsolved::Interrupted`] for a planner that stopped without a plan.
+pub fn request_stop() {
+    STOP.store(true, std::sync::atomic::Ordering::Relaxed);
+}
+
+/// Whether [`request_stop`] has been called.
+pub fn stop_requested() -> bool {
+    STOP.load(std::sync::atomic::Ordering::Relaxed)
 }
 
 /// What a long-running planner reports: `done` of `total` units of `stage` (e.g. generations).
@@ -175,6 +193,8 @@ pub enum Unsolved {
     TimeLimit,
     /// The memory limit ([`crate::memory`]) was reached: the planner stopped as at a deadline.
     MemoryLimit,
+    /// A stop was requested ([`request_stop`], Ctrl-C) before the planner had a plan.
+    Interrupted,
     /// The planner finished without a plan (it explains why): an honest "not solved".
     GaveUp(String),
     /// The planner returned a plan the validator rejects: a bug in mrpp, never the user's fault.
@@ -187,11 +207,13 @@ impl Unsolved {
     pub fn is_bug(&self) -> bool {
         matches!(self, Unsolved::Invalid(_))
     }
-    /// A short status word for records: `time_limit`, `memory_limit`, `gave_up` or `invalid`.
+    /// A short status word for records: `time_limit`, `memory_limit`, `interrupted`, `gave_up`
+    /// or `invalid`.
     pub fn status(&self) -> &'static str {
         match self {
             Unsolved::TimeLimit => "time_limit",
             Unsolved::MemoryLimit => "memory_limit",
+            Unsolved::Interrupted => "interrupted",
             Unsolved::GaveUp(_) => "gave_up",
             Unsolved::Invalid(_) => "invalid",
         }
@@ -202,6 +224,7 @@ impl std::fmt::Display for Unsolved {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
             Unsolved::TimeLimit => write!(f, "time limit reached"),
+            Unsolved::Interrupted => write!(f, "interrupted"),
             Unsolved::MemoryLimit => write!(
                 f,
                 "memory limit reached ({} MB of heap; --memory-limit)",
@@ -229,10 +252,11 @@ pub fn solve<P: Problem>(
     let started = Instant::now();
     crate::memory::reset_tripped();
     let plan = planner.plan(problem, ctx).map_err(|why| match why {
-        // A planner stopped by the memory limit saw an expired deadline.
+        // A planner stopped by the memory limit or a stop request saw an expired deadline.
         Unsolved::TimeLimit | Unsolved::GaveUp(_) if crate::memory::tripped() => {
             Unsolved::MemoryLimit
         }
+        Unsolved::TimeLimit | Unsolved::GaveUp(_) if stop_requested() => Unsolved::Interrupted,
         other => other,
     })?;
     accept(problem, plan, planner.name(), started.elapsed())

@@ -164,7 +164,13 @@ proptest! {
             let planner = entry.instantiate(&[]).unwrap();
             let ctx = Ctx::new(1, Deadline::after(Duration::from_millis(30)));
             match solve(planner.as_ref(), &problem, &ctx) {
-                Ok(_) | Err(Unsolved::TimeLimit | Unsolved::MemoryLimit | Unsolved::GaveUp(_)) => {}
+                Ok(_)
+                | Err(
+                    Unsolved::TimeLimit
+                    | Unsolved::MemoryLimit
+                    | Unsolved::Interrupted
+                    | Unsolved::GaveUp(_),
+                ) => {}
                 Err(Unsolved::Invalid(why)) => {
                     prop_assert!(false, "{} returned an invalid plan: {}", entry.name, why)
                 }

@@ -230,7 +230,7 @@ impl Sweep for HbmoNavigation {
                 }
             }
             Err(Unsolved::Invalid(why)) => return Err(Error::Internal(why)),
-            Err(why @ (Unsolved::TimeLimit | Unsolved::MemoryLimit)) => {
+            Err(why @ (Unsolved::TimeLimit | Unsolved::MemoryLimit | Unsolved::Interrupted)) => {
                 row.status = why.status().into();
             }
             Err(Unsolved::GaveUp(why)) => {
