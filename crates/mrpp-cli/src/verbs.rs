@@ -44,6 +44,7 @@ pub(crate) fn render(inputs: &Inputs, plan: &Path, out: &Path, gif: bool) -> Res
     }
     inputs.guard(&[plan], &[out])?;
     let family = family_of_inputs(inputs)?;
+    warn_if_invalid(family, inputs, plan);
     match ext.as_str() {
         "svg" => write_atomic(out, &family.render(inputs, plan)?)?,
         #[cfg(feature = "raster")]
@@ -68,4 +69,12 @@ pub(crate) fn render(inputs: &Inputs, plan: &Path, out: &Path, gif: bool) -> Res
     }
     say!("picture written to {}", out.display());
     Ok(0)
+}
+
+/// Says on stderr when the plan to be drawn or played breaks a rule (or its claims do not hold):
+/// the picture is still made, since a broken plan is worth seeing, but not without a word.
+pub(crate) fn warn_if_invalid(family: &dyn crate::family::Family, inputs: &Inputs, plan: &Path) {
+    if let Err(Fail(why)) = family.check(inputs, plan) {
+        eprintln!("mrpp: warning: this plan is not valid (drawn as it is): {why}");
+    }
 }

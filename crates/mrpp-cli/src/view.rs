@@ -48,7 +48,9 @@ pub(crate) fn view(
     if let Some(out) = &out {
         inputs.guard(&[plan], &[out])?;
     }
-    let scene = family_of_inputs(inputs)?.scene(inputs, plan)?;
+    let family = family_of_inputs(inputs)?;
+    crate::verbs::warn_if_invalid(family, inputs, plan);
+    let scene = family.scene(inputs, plan)?;
     let html = page(&scene);
     if let Some(out) = out {
         write_atomic(&out, &html)?;

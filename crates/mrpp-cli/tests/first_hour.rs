@@ -443,3 +443,60 @@ fn ctrl_c_keeps_the_best_plan_and_says_how_to_resume() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Item 11 (part): `render` and `view` of a plan with a teleport still draw it (a broken plan is
+/// worth seeing) but say on stderr which rule it breaks; a valid plan draws without a word.
+#[test]
+fn drawing_an_invalid_plan_says_so() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data/movingai");
+    let (m, i) = (
+        root.join("random-32-32-20.map"),
+        root.join("random-32-32-20-random-1.scen"),
+    );
+    let dir = std::env::temp_dir().join(format!("mrpp-teleport-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let run = |args: &[&str]| {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_mrpp"))
+            .args(args)
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        (
+            o.status.code(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    };
+    let map = m.to_str().unwrap();
+    let (code, _) = run(&[
+        "solve",
+        "-m",
+        map,
+        "-i",
+        i.to_str().unwrap(),
+        "-N",
+        "5",
+        "-P",
+        "pibt",
+        "-o",
+        "ok.json",
+    ]);
+    assert_eq!(code, Some(0));
+    let mut plan: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("ok.json")).unwrap()).unwrap();
+    let step = &mut plan["agents"][0]["path"][2];
+    step[0] = serde_json::json!(step[0].as_i64().unwrap() + 5);
+    plan["metrics"] = serde_json::json!({});
+    std::fs::write(dir.join("teleport.json"), plan.to_string()).unwrap();
+    for (verb, out) in [("render", "t.svg"), ("view", "t.html")] {
+        let (code, err) = run(&[verb, "-m", map, "--plan", "teleport.json", "-o", out]);
+        assert_eq!(code, Some(0), "{err}");
+        assert!(
+            err.contains("warning: this plan is not valid") && err.contains("agent 0 jumps"),
+            "{verb}: {err}"
+        );
+        assert!(dir.join(out).exists());
+        let (_, err) = run(&[verb, "-m", map, "--plan", "ok.json", "-o", out]);
+        assert!(err.is_empty(), "{verb}: {err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
