@@ -36,11 +36,13 @@ Rules:
     cost is T(u) + c_e(n_e) for its last arc u->G, or 0 for the path [S] when
     S = G. c_max = max cost, sum_of_costs = sum of costs, distinct_paths =
     number of distinct paths.
+  * every arc's cost c_e(n_e) must be finite: a corridor over capacity under
+    the hard model (or a cost that overflows) makes the plan invalid, naming
+    the first such arc u->v along agent 0's path, then agent 1's, ... (checked
+    after the circular wait); c_max and sum_of_costs must be finite too.
   * metrics reported (not null) must match: floats to relative 1e-9 (absolute
     1e-12 near zero), distinct_paths exactly.
-  * an infinite cost (hard model over capacity) does not make the plan
-    invalid: c_max / sum_of_costs are then printed as null and the reported
-    values for them are not compared.
+  * kappa (lanes) must be a number >= 0 (costs never fall as r grows).
 """
 import json
 import math
@@ -90,12 +92,15 @@ def read_problem(plan, name):
     if not isinstance(cost, dict) or cost.get("model") not in ("lanes", "waves", "hard"):
         raise Invalid(f"{name}: 'cost' must be an object with model lanes, waves or hard")
     model, kappa = cost["model"], cost.get("kappa", 0.5)
-    if model == "lanes" and not is_num(kappa):
-        raise Invalid(f"{name}: 'kappa' must be a number, got {kappa!r}")
+    if model == "lanes" and not (is_num(kappa) and kappa >= 0):
+        raise Invalid(f"{name}: 'kappa' must be a number >= 0, got {kappa!r}")
     pitch = 2 * rho + rho / 2
 
+    def cap_fn(clearance):
+        return max(1, math.floor(2 * clearance / pitch))
+
     def cost_fn(length, clearance, r):
-        cap = max(1, math.floor(2 * clearance / pitch))
+        cap = cap_fn(clearance)
         k = -(-r // cap)
         if model == "lanes":
             return length * (1 + kappa * (k - 1))
@@ -120,12 +125,12 @@ def read_problem(plan, name):
             raise Invalid(f"{name}: edge {k} {e!r} is not [u, v, length, clearance] "
                           f"with ids in 0..{n - 1} and non-negative numbers")
         emap.setdefault(frozenset(e[:2]), (e[2], e[3]))
-    return robots, cost_fn, n, emap
+    return robots, cost_fn, cap_fn, n, emap
 
 
 def check_plan(plan, name):
     """Check the plan; return the recomputed metrics."""
-    robots, cost_fn, n, emap = read_problem(plan, name)
+    robots, cost_fn, cap_fn, n, emap = read_problem(plan, name)
     agents = plan.get("agents")
     if not isinstance(agents, list) or not all(isinstance(a, dict) for a in agents):
         raise Invalid(f"{name}: 'agents' is not a list of objects")
@@ -195,17 +200,26 @@ def check_plan(plan, name):
         raise Invalid("circular wait: the arcs used by the paths form the cycle "
                       + " -> ".join(map(str, cycle)))
 
+    for path in paths:
+        for u, v in zip(path, path[1:]):
+            if not math.isfinite(arc_cost(u, v)):
+                e = frozenset((u, v))
+                raise Invalid(f"corridor {u}-{v} is over capacity: {n_e[e]} robots cross it "
+                              f"together but it holds {cap_fn(emap[e][1])} side by side, so "
+                              f"the crossing never ends (infinite cost)")
     costs = [0.0 if len(p) == 1 else T[p[-2]] + arc_cost(p[-2], p[-1]) for p in paths]
     c_max, soc = max(costs), sum(costs)
-    result = {"c_max": c_max if math.isfinite(c_max) else None,
-              "sum_of_costs": soc if math.isfinite(soc) else None,
+    for key, value in (("c_max", c_max), ("sum of costs", soc)):
+        if not math.isfinite(value):
+            raise Invalid(f"the plan's {key} is not a finite number")
+    result = {"c_max": c_max, "sum_of_costs": soc,
               "distinct_paths": len({tuple(p) for p in paths})}
     metrics = plan.get("metrics")
     if metrics is not None and not isinstance(metrics, dict):
         raise Invalid(f"{name}: 'metrics' is not an object")
     for key, value in result.items():
         reported = (metrics or {}).get(key)
-        if reported is None or value is None:  # value None: infinite cost, not compared
+        if reported is None:
             continue
         if key == "distinct_paths":
             ok = is_int(reported) and reported == value
@@ -261,9 +275,17 @@ CASES = [  # (name, plan or raw text, expected metrics or reason fragment)
      {"c_max": 6.0, "sum_of_costs": 18.0, "distinct_paths": 1}),
     ("waves", f_plan([[0, 1, 3]] * 3, "waves"),
      {"c_max": 6.0, "sum_of_costs": 18.0, "distinct_paths": 1}),
-    ("hard over capacity: infinite, not compared", f_plan([[0, 1, 3]] * 3, metrics={
-        "c_max": 2.0, "sum_of_costs": 6.0}),
-     {"c_max": None, "sum_of_costs": None, "distinct_paths": 1}),
+    ("hard over capacity", f_plan([[0, 1, 3]] * 3, metrics={
+        "c_max": None, "sum_of_costs": None, "distinct_paths": 1}),
+     "corridor 0-1 is over capacity: 3 robots cross it together but it holds 1 side by side"),
+    ("hard, two over capacity on the second path", f_plan([[0, 2, 3], [0, 1, 3], [0, 1, 3]]),
+     "corridor 0-1 is over capacity: 2 robots cross it together but it holds 1"),
+    ("hard, within capacity, reported null", f_plan([[0, 2, 3], [0, 2, 3], [0, 1, 3]], metrics={
+        "c_max": None}), {"c_max": 3.0, "sum_of_costs": 8.0, "distinct_paths": 2}),
+    ("lanes, a cost that overflows", f_plan([[0, 1, 3]] * 3, cost={
+        "model": "lanes", "kappa": 1e308}), "corridor 0-1 is over capacity"),
+    ("negative kappa", f_plan(HARD, cost={"model": "lanes", "kappa": -0.5}),
+     "'kappa' must be a number >= 0"),
     ("start is goal", f_plan([[2], [2]]), {"c_max": 0.0, "sum_of_costs": 0.0, "distinct_paths": 1}),
     ("wrong agent count", f_plan(HARD, robots=4), "3 agents but 'robots' is 4"),
     ("wrong start", f_plan([[0, 1, 3], [1, 3]]), "agent 1 has start 1 / goal 3"),

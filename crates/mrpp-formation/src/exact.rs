@@ -41,6 +41,12 @@
 //! them wait in a circle; a full plan is scored by the validator's timing
 //! ([`FormationProblem::evaluate`]).
 //!
+//! **Capacity.** First of all, [`crate::capacity::within_capacity`] (a maximum flow) decides
+//! whether any plan has a finite cost: when none does (the `hard` model with corridors too
+//! narrow for the formation), `exact` gives up naming the corridors of a minimum cut; when one
+//! does but neither the sequential plan nor the GA run found one, the flow's plan is the first
+//! bound, so the search always starts from a finite bound.
+//!
 //! Counts of robots per edge are bit sets of placed robots, so `exact` takes at most 64 robots.
 //! Measured with R = 4..8 on 10 random start/goal pairs of each bundled map
 //! (`docs/reproduction/ga-formation.md`): every optimum proven, the slowest in about 6 s.
@@ -96,7 +102,15 @@ impl Planner<FormationProblem> for Exact {
                 p.robots()
             )));
         }
-        let (seed, ub) = first_bound(p, ctx)?;
+        let fits =
+            crate::capacity::within_capacity(p).map_err(|b| Unsolved::GaveUp(b.to_string()))?;
+        let (seed, ub) = match first_bound(p, ctx)? {
+            (_, ub) if !ub.is_finite() => {
+                let c = p.evaluate(&fits).map_or(f64::INFINITY, |e| e.c_max);
+                (fits, c)
+            }
+            found => found,
+        };
         let bound = if ub.is_finite() { ub } else { f64::MAX };
         let (lim, dl) = (self.candidate_limit, &ctx.deadline);
         let cands = paths_up_to(p.roadmap(), p.start(), p.goal(), bound, lim, dl).map_err(
@@ -119,7 +133,9 @@ impl Planner<FormationProblem> for Exact {
         search.dfs(&root)?;
         let paths = match search.best_plan {
             Some(ids) => ids.iter().map(|&i| cands[i].0.clone()).collect(),
-            None => seed,
+            None if ub.is_finite() => seed,
+            // Not reached: the flow's plan is valid with a finite cost.
+            None => return Err(crate::planners::no_finite_plan(p, EXACT, &seed)),
         };
         Ok(FormationPlan { paths })
     }
@@ -705,7 +721,8 @@ fn convex_hull_of_totals(p: &FormationProblem, e: u32) -> Vec<f64> {
 }
 
 /// The paper's exhaustive search: every multiset of `robots` simple paths (at most `limit` paths);
-/// the optimal plan and its `c_max`, or `None` when there are more paths.
+/// the optimal plan and its `c_max` (an empty plan and an infinite `c_max` when no multiset is a
+/// valid plan, e.g. every one over a corridor's capacity), or `None` when there are more paths.
 pub fn brute_force(p: &FormationProblem, limit: usize) -> Option<(Vec<Vec<u32>>, f64)> {
     let all = all_simple_paths(p.roadmap(), p.start(), p.goal(), limit)?;
     fn go(
@@ -731,5 +748,5 @@ pub fn brute_force(p: &FormationProblem, limit: usize) -> Option<(Vec<Vec<u32>>,
     }
     let mut best = None;
     go(p, &all, &mut Vec::new(), 0, &mut best);
-    best
+    Some(best.unwrap_or((Vec::new(), f64::INFINITY)))
 }

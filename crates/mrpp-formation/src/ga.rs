@@ -22,7 +22,10 @@
 //!   (edge lengths) from that edge's first vertex to `Q_goal`; *path level*: one random path is
 //!   copied over the R − 1 others (the formation on one path).
 //! - **Stop**: after `generations` generations (the paper: 100) or at the deadline; the best plan
-//!   found is returned. Children are evaluated exactly ([`FormationProblem::evaluate`]); a child
+//!   found is returned, unless its cost is not finite (every individual over a corridor's
+//!   capacity under the `hard` model, say): then the GA gives up, naming the corridors that hold
+//!   the formation back ([`crate::capacity`]) or, when a plan within capacity exists, the best
+//!   individual's first violation. Children are evaluated exactly ([`FormationProblem::evaluate`]); a child
 //!   that breaks a rule stays in the population with `c_max = ∞`.
 //!
 //! Defaults are the paper's (§3): population 20, `p_c` 0.9, `p_m` 0.3, 100 generations. The run is
@@ -381,9 +384,14 @@ impl Planner<FormationProblem> for Ga {
     fn name(&self) -> &str {
         NAME
     }
+    /// # Errors
+    /// [`Unsolved::GaveUp`] when `Q_goal` cannot be reached, or when no individual found has a
+    /// finite cost (naming the corridors over capacity: a minimum cut when no plan fits, else
+    /// the best individual's first violation).
     fn plan(&self, p: &FormationProblem, ctx: &Ctx) -> Result<FormationPlan, Unsolved> {
         match self.run(p, ctx) {
-            Some(run) => Ok(run.plan),
+            Some(run) if run.c_max.is_finite() => Ok(run.plan),
+            Some(run) => Err(crate::planners::no_finite_plan(p, NAME, &run.plan.paths)),
             None => Err(Unsolved::GaveUp(
                 "Q_goal cannot be reached from Q_ini on the roadmap".into(),
             )),

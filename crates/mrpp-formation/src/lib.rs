@@ -11,13 +11,15 @@
 //! - [`polymap`]: CTU/CIIRC polygon maps (parser with file:line errors); [`generator`]: seeded
 //!   stand-ins for the maps that are not public;
 //! - [`roadmap`]: the generalized Voronoi roadmap (spade), corridors with length and clearance;
-//! - [`cost`]: cost vectors `c_e(r)` (named models);
+//! - [`cost`]: cost vectors `c_e(r)` (named models); [`capacity`]: whether the formation fits
+//!   the corridors at all (a maximum flow; the corridors that hold it back when it does not);
 //! - [`problem`]: [`FormationProblem`], plans, the validator and its timing;
 //! - [`paths`]: Dijkstra, loop elimination, k-shortest and all simple paths;
 //! - [`planners`] (`sequential`), [`ga`] (`ga`) and [`exact`] (`exact`), registered in [`PLANNERS`];
 //! - [`render`]: an SVG picture of the map, roadmap and plan;
 //! - [`world`]: the formation file (map, robots, Q_ini, Q_goal, cost model) and plan files.
 
+pub mod capacity;
 pub mod cost;
 pub mod exact;
 pub mod ga;

@@ -11,7 +11,14 @@
 //!   `n_e` robots, taking `c_e(n_e)` ([`crate::cost`]);
 //! - the waiting must be possible: the shared vertices may not be visited in orders that make
 //!   robots wait for each other in a circle (the union of the paths, as a directed graph, has no
-//!   cycle).
+//!   cycle);
+//! - **every group's crossing takes a finite time**: a corridor whose cost `c_e(n_e)` is not
+//!   finite (the `hard` model with more robots than the corridor holds side by side, [`crate::cost`])
+//!   cannot be crossed, so a plan that sends such a group is refused, naming the first such
+//!   corridor along robot 0's path, then robot 1's, and so on
+//!   ([`FormationViolation::OverCapacity`]); and the plan's `c_max` and sum of costs must be
+//!   finite numbers ([`FormationViolation::CostNotFinite`]). A plan the validator accepts therefore
+//!   never has an infinite, NaN or missing metric.
 //!
 //! Timing: `T(Q_ini) = 0`; for every other vertex `v` on some path,
 //! `T(v) = max over robots i through v of T(pred_i(v)) + c_e(n_e)` for the edge `e` from the
@@ -87,6 +94,20 @@ pub enum FormationViolation {
     CircularWait {
         vertex: u32,
     },
+    /// `robots` robots cross the corridor between roadmap vertices `from` and `to` (in that
+    /// direction) together, but its cost for that many is not finite: it holds `capacity` robots
+    /// side by side and the cost model forbids more (`hard`).
+    OverCapacity {
+        from: u32,
+        to: u32,
+        robots: usize,
+        capacity: usize,
+    },
+    /// The plan's `c_max` or sum of costs (`what`) is not a finite number although every
+    /// corridor's cost is (a sum that overflows).
+    CostNotFinite {
+        what: &'static str,
+    },
 }
 
 impl std::fmt::Display for FormationViolation {
@@ -121,6 +142,19 @@ impl std::fmt::Display for FormationViolation {
                 f,
                 "the robots would wait for each other in a circle (through vertex {vertex})"
             ),
+            Self::OverCapacity {
+                from,
+                to,
+                robots,
+                capacity,
+            } => write!(
+                f,
+                "corridor {from}-{to} is over capacity: {robots} robots cross it together but it \
+                 holds {capacity} side by side, so the crossing never ends (infinite cost)"
+            ),
+            Self::CostNotFinite { what } => {
+                write!(f, "the plan's {what} is not a finite number")
+            }
         }
     }
 }
@@ -133,10 +167,13 @@ pub struct Evaluation {
 }
 
 impl FormationProblem {
-    /// A problem for `robots` robots of radius `radius` from vertex `start` to `goal`.
+    /// A problem for `robots` robots of radius `radius` (working units) from vertex `start` to
+    /// `goal`.
     ///
     /// # Errors
-    /// A message when `robots` is 0 or a vertex is not on the roadmap.
+    /// A message when `robots` is 0, a vertex is not on the roadmap, the radius is not a positive
+    /// number, or the `lanes` model's κ is not a finite number ≥ 0 (a negative κ would make a
+    /// group cheaper than one robot, breaking the models' promise of costs that never fall).
     pub fn new(
         roadmap: Arc<Roadmap>,
         robots: usize,
@@ -152,6 +189,18 @@ impl FormationProblem {
         if start >= n || goal >= n {
             return Err(format!(
                 "Q_ini {start} or Q_goal {goal} is not one of the roadmap's {n} vertices"
+            ));
+        }
+        if !(radius.is_finite() && radius > 0.0) {
+            return Err(format!(
+                "the radius must be a positive number, got {radius}"
+            ));
+        }
+        if let CostModel::Lanes { kappa } = cost
+            && !(kappa.is_finite() && kappa >= 0.0)
+        {
+            return Err(format!(
+                "the lanes cost model's kappa must be a number >= 0, got {kappa}"
             ));
         }
         let table = roadmap
@@ -199,11 +248,13 @@ impl FormationProblem {
     }
 
     /// The timing of `paths` (any number of them, e.g. part of a plan) under the paper's rules,
-    /// or the first rule they break.
+    /// or the first rule they break (a corridor over capacity included: an `Ok` evaluation has
+    /// finite times, unless a sum overflows).
     pub fn evaluate(&self, paths: &[Vec<u32>]) -> Result<Evaluation, FormationViolation> {
         let edges = self.path_edges(paths)?;
         let usage = self.usage(&edges)?;
         let times = self.event_times(paths, &edges, &usage)?;
+        self.check_capacity(paths, &edges, &usage)?;
         let per_robot: Vec<f64> = paths
             .iter()
             .zip(&edges)
@@ -231,6 +282,7 @@ impl FormationProblem {
         let edges = self.path_edges(paths)?;
         let usage = self.usage(&edges)?;
         let times = self.event_times(paths, &edges, &usage)?;
+        self.check_capacity(paths, &edges, &usage)?;
         Ok(paths
             .iter()
             .zip(&edges)
@@ -279,6 +331,33 @@ impl FormationProblem {
             }
         }
         Ok(usage)
+    }
+
+    /// The first corridor, along robot 0's path, then robot 1's, ..., whose group cost
+    /// `c_e(n_e)` is not finite ([`FormationViolation::OverCapacity`]).
+    fn check_capacity(
+        &self,
+        paths: &[Vec<u32>],
+        edges: &[Vec<(u32, bool)>],
+        usage: &FxHashMap<u32, (usize, usize, usize, usize)>,
+    ) -> Result<(), FormationViolation> {
+        for (p, es) in paths.iter().zip(edges) {
+            for (w, &(e, _)) in p.windows(2).zip(es) {
+                let n = usage[&e].0 + usage[&e].1;
+                if !self.edge_cost(e, n).is_finite() {
+                    return Err(FormationViolation::OverCapacity {
+                        from: w[0],
+                        to: w[1],
+                        robots: n,
+                        capacity: crate::cost::capacity(
+                            &self.roadmap.edges[e as usize],
+                            self.radius,
+                        ),
+                    });
+                }
+            }
+        }
+        Ok(())
     }
 
     /// Each path's edges `(edge id, forward)`, after checking ends, edges and revisits.
@@ -376,17 +455,41 @@ impl FormationProblem {
         Ok(times)
     }
 
-    /// The metrics of a full plan (any number of paths accepted here; `validate` checks the count).
+    /// The metrics of a full plan (any number of paths accepted here; `validate` checks the
+    /// count): always finite numbers.
+    ///
+    /// # Errors
+    /// The first rule the plan breaks, a corridor over capacity or a `c_max` / sum of costs that
+    /// is not finite included.
     pub fn metrics(&self, plan: &FormationPlan) -> Result<FormationMetrics, FormationViolation> {
         let ev = self.evaluate(&plan.paths)?;
         let mut distinct = plan.paths.clone();
         distinct.sort();
         distinct.dedup();
+        let sum_of_costs: f64 = ev.per_robot.iter().sum();
+        if !ev.c_max.is_finite() {
+            return Err(FormationViolation::CostNotFinite { what: "c_max" });
+        }
+        if !sum_of_costs.is_finite() {
+            return Err(FormationViolation::CostNotFinite {
+                what: "sum of costs",
+            });
+        }
         Ok(FormationMetrics {
             c_max: ev.c_max,
-            sum_of_costs: ev.per_robot.iter().sum(),
+            sum_of_costs,
             distinct_paths: distinct.len(),
         })
+    }
+
+    /// Why no plan was found, for a planner whose best plan `paths` is not valid: its first
+    /// violation (the corridor over capacity, typically).
+    pub(crate) fn why_not(&self, paths: &[Vec<u32>]) -> String {
+        match self.evaluate(paths) {
+            Err(v) => v.to_string(),
+            Ok(e) if !e.c_max.is_finite() => "its c_max is not a finite number".into(),
+            Ok(_) => "it is valid".into(),
+        }
     }
 }
 
@@ -440,9 +543,69 @@ pub(crate) mod tests {
         let all_a = FormationPlan {
             paths: vec![vec![0, 1, 3]; 3],
         };
-        assert!(p.validate(&all_a).unwrap().c_max.is_infinite());
         let lanes = diamond(CostModel::default());
         assert_eq!(lanes.validate(&all_a).unwrap().c_max, 4.0); // 2 · (1 + 0.5 · 2)
+    }
+
+    /// Issue 27 B: three robots on a corridor that holds one have an infinite cost under the
+    /// hard model, and the validator refuses the plan naming the corridor (it used to accept it
+    /// with c_max = ∞, written as null).
+    #[test]
+    fn a_corridor_over_capacity_is_refused_by_name() {
+        let p = diamond(CostModel::Hard);
+        let all_a = FormationPlan {
+            paths: vec![vec![0, 1, 3]; 3],
+        };
+        let e = p.validate(&all_a).unwrap_err();
+        assert_eq!(
+            e,
+            FormationViolation::OverCapacity {
+                from: 0,
+                to: 1,
+                robots: 3,
+                capacity: 1
+            }
+        );
+        assert!(
+            e.to_string().contains("corridor 0-1 is over capacity"),
+            "{e}"
+        );
+        assert!(p.evaluate(&all_a.paths).is_err());
+        assert!(p.schedule(&all_a.paths).is_err());
+        // A 2 + 1 split (two on the wide corridor through B, one through A) fits; two through A
+        // do not.
+        let ok = FormationPlan {
+            paths: vec![vec![0, 2, 3], vec![0, 2, 3], vec![0, 1, 3]],
+        };
+        assert!(p.validate(&ok).unwrap().c_max.is_finite());
+        let two_on_a = FormationPlan {
+            paths: vec![vec![0, 2, 3], vec![0, 1, 3], vec![0, 1, 3]],
+        };
+        assert!(matches!(
+            p.validate(&two_on_a).unwrap_err(),
+            FormationViolation::OverCapacity {
+                from: 0,
+                to: 1,
+                robots: 2,
+                ..
+            }
+        ));
+    }
+
+    #[test]
+    fn negative_or_non_finite_kappa_and_bad_radius_are_refused() {
+        let r = diamond(CostModel::Waves).roadmap_arc().clone();
+        for kappa in [-0.5, f64::INFINITY, f64::NAN] {
+            let e = FormationProblem::new(r.clone(), 3, 0, 3, CostModel::Lanes { kappa }, 0.4)
+                .unwrap_err();
+            assert!(e.contains("kappa"), "{e}");
+        }
+        assert!(
+            FormationProblem::new(r.clone(), 3, 0, 3, CostModel::Lanes { kappa: 0.0 }, 0.4).is_ok()
+        );
+        for radius in [0.0, -1.0, f64::NAN] {
+            assert!(FormationProblem::new(r.clone(), 3, 0, 3, CostModel::Waves, radius).is_err());
+        }
     }
 
     #[test]

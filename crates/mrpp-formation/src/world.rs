@@ -286,6 +286,126 @@ mod tests {
         .unwrap()
     }
 
+    fn planners() -> Vec<Box<dyn mrpp_core::Planner<FormationProblem>>> {
+        vec![
+            Box::new(Sequential),
+            Box::new(crate::ga::Ga::default()),
+            Box::new(Exact {
+                candidate_limit: 200_000,
+            }),
+        ]
+    }
+
+    /// Issue 27 B: under every cost model, every plan a planner calls solved has finite
+    /// metrics, in the problem's metrics and in the plan file (no null); planners that solve
+    /// nothing give up honestly.
+    #[test]
+    fn solved_plans_have_finite_metrics_under_every_cost_model() {
+        for cost in [
+            CostModel::Lanes { kappa: 0.5 },
+            CostModel::Waves,
+            CostModel::Hard,
+        ] {
+            let mut solved = 0;
+            for name in ["gaps-3.json", "potholes-3.json", "var_density2-3.json"] {
+                for robots in [2, 3] {
+                    let mut f = load(name);
+                    let p = &f.problem;
+                    f.problem = FormationProblem::new(
+                        p.roadmap_arc().clone(),
+                        robots,
+                        p.start(),
+                        p.goal(),
+                        cost,
+                        p.radius(),
+                    )
+                    .unwrap();
+                    f.file.cost = cost;
+                    f.file.robots = robots;
+                    for planner in planners() {
+                        let outcome = solve(planner.as_ref(), &f.problem, &Ctx::default());
+                        let what = format!(
+                            "{name}, {robots} robots, {}, {}",
+                            cost.label(),
+                            planner.name()
+                        );
+                        let s = match &outcome {
+                            Ok(s) => s,
+                            Err(e) => {
+                                assert!(matches!(e, Unsolved::GaveUp(_)), "{what}: {e:?}");
+                                continue;
+                            }
+                        };
+                        solved += 1;
+                        assert!(
+                            s.metrics.c_max.is_finite() && s.metrics.sum_of_costs.is_finite(),
+                            "{what}: {:?}",
+                            s.metrics
+                        );
+                        let env = formation_envelope(name, &f, RunInfo::default(), &outcome);
+                        for key in ["c_max", "sum_of_costs", "distinct_paths"] {
+                            let v = env.metrics.get(key).and_then(Value::as_f64);
+                            assert!(v.is_some_and(f64::is_finite), "{what}: {key} is {v:?}");
+                        }
+                    }
+                }
+            }
+            assert!(solved >= 9, "{}: only {solved} solved", cost.label());
+        }
+    }
+
+    /// Issue 27 B: a `hard` formation in which every corridor is too narrow for the robots
+    /// (`mrpp gen formation -m data/polygon-maps/gaps.txt --robots 12 -s 0 --radius 2 --cost
+    /// hard`): no plan has a finite cost. Every planner used to call its plan solved with
+    /// `c_max: null`, and the validator accepted it; now each gives up naming the corridor over
+    /// capacity, and the validator refuses such a plan.
+    #[test]
+    fn every_corridor_over_capacity_is_not_solved() {
+        let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data");
+        let map_path = dir.join("polygon-maps/gaps.txt");
+        let file = FormationFile {
+            map: map_path.clone(),
+            robots: 12,
+            start: [27.672422534731886, 27.011901108315516],
+            goal: [26.722942625358925, 4.373909437673447],
+            radius: 2.0,
+            cost: CostModel::Hard,
+        };
+        let f = Formation::on(
+            file,
+            PolygonMap::load(&map_path).unwrap(),
+            Path::new("over.json"),
+        )
+        .unwrap();
+        let p = &f.problem;
+        for planner in planners() {
+            match solve(planner.as_ref(), p, &Ctx::default()) {
+                Err(Unsolved::GaveUp(why)) => assert!(
+                    why.contains("corridor") && why.contains("over capacity"),
+                    "{}: {why}",
+                    planner.name()
+                ),
+                Err(e) => panic!("{}: {e:?}", planner.name()),
+                Ok(s) => panic!("{}: solved with {:?}", planner.name(), s.metrics),
+            }
+        }
+        // The plan the planners used to return: the whole formation on one path.
+        let paths = crate::planners::sequential_paths(p, &|_| 1.0);
+        assert_eq!(paths.len(), 12);
+        let e = mrpp_core::Problem::validate(p, &FormationPlan { paths }).unwrap_err();
+        assert!(
+            matches!(
+                e,
+                crate::FormationViolation::OverCapacity {
+                    robots: 12,
+                    capacity: 1,
+                    ..
+                }
+            ),
+            "{e}"
+        );
+    }
+
     #[test]
     fn bundled_formations_plan_and_exact_is_best() {
         for name in ["gaps-3.json", "potholes-3.json", "var_density2-3.json"] {
