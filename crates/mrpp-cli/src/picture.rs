@@ -76,8 +76,9 @@ fn draw(scene: &Value, t: Option<usize>) -> String {
         ((p[0] - x0) * scale, y * scale)
     };
     let mut s = String::new();
-    // The whole-plan picture has a legend band under the world.
-    let band = if t.is_none() { LEGEND_PX } else { 0.0 };
+    // A legend band under the world: what the marks mean, and a frame's time step (dark on
+    // white, where a label on the map could sit on a wall).
+    let band = LEGEND_PX;
     let _ = writeln!(
         s,
         r##"<svg xmlns="http://www.w3.org/2000/svg" width="{w:.0}" height="{:.0}" viewBox="0 0 {w:.0} {:.0}"><rect width="100%" height="100%" fill="#fff"/>"##,
@@ -197,9 +198,17 @@ fn draw(scene: &Value, t: Option<usize>) -> String {
         }
     }
     if let Some(t) = t {
+        let y = h + band / 2.0;
         let _ = write!(
             s,
-            r##"<text x="6" y="16" font-size="14" font-family="sans-serif" fill="#b00">t = {t}</text>"##
+            r##"<g font-family="sans-serif" font-size="12" fill="#222"><text x="8" y="{:.2}" font-weight="bold">t = {t} of {}</text><circle cx="112" cy="{y:.2}" r="5" fill="#666"/><text x="121" y="{:.2}">agent (id)</text><rect x="190" y="{:.2}" width="10" height="10" fill="none" stroke="#666" stroke-width="1.5"/><text x="206" y="{:.2}">goal</text><text x="248" y="{:.2}">{} agents, one colour each</text></g>"##,
+            y + 4.0,
+            steps(scene),
+            y + 4.0,
+            y - 5.0,
+            y + 4.0,
+            y + 4.0,
+            agents.len()
         );
     } else {
         let y = h + band / 2.0;
@@ -242,6 +251,8 @@ mod tests {
                 "path": [[0.5, 0.5], [1.5, 0.5], [1.5, 0.5], [1.5, 0.5], [2.5, 0.5]]}]
         });
         assert!(paths_svg(&waiting).contains("<title>agent 0 waits 2 step(s) at t=1</title>"));
-        assert!(frame_svg(&scene, 1).contains("t = 1"));
+        let frame = frame_svg(&scene, 1);
+        assert!(frame.contains(">t = 1 of 2</text>"), "{frame}");
+        assert!(frame.contains(">2 agents, one colour each</text>"));
     }
 }
