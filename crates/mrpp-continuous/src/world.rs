@@ -7,8 +7,11 @@
 //!  "robots": [{"start": [20, 20], "goal": [460, 360], "radius": 6, "speed": 16}],
 //!  "epsilon": 1.0, "step_limit": 500, "source": "how the file was made (optional)"}
 //! ```
-//! `workspace` is `[x_min, y_min, x_max, y_max]`; an obstacle may repeat its first vertex at the
-//! end (the ring closes itself either way); units are the paper's pixels (robot radius 6,
+//! `workspace` is `[x_min, y_min, x_max, y_max]`; an obstacle's ring closes itself, and one
+//! written closed (its last vertex repeating its first) has that repeated closing vertex dropped,
+//! once, before any check ([`drop_closing_vertex`]: the one ring rule, which the formation
+//! family's polygon map reader, `mrpp_formation::polymap`, applies too); units are the paper's
+//! pixels (robot radius 6,
 //! speeds 4–20 per step). `epsilon` (default 1.0) is the arrival threshold: a robot within it of
 //! its goal stops (the paper's ε); `step_limit` (default 1000) ends a run. Loading checks every
 //! rule below and names the file and the item that breaks it (`robots[2]: start inside
@@ -74,11 +77,8 @@ impl World {
     pub fn parse(text: &str, path: &Path) -> Result<World> {
         let mut w: World = serde_json::from_str(text)
             .map_err(|e| Error::parse(path, e.line(), format!("not a continuous world: {e}")))?;
-        // A ring written closed (first vertex repeated at the end) is the same polygon.
         for poly in &mut w.obstacles {
-            if poly.len() > 3 && poly.first() == poly.last() {
-                poly.pop();
-            }
+            drop_closing_vertex(poly);
         }
         w.check().map_err(|msg| Error::invalid(path, msg))?;
         Ok(w)
@@ -195,9 +195,75 @@ impl World {
     }
 }
 
+/// The one ring rule for polygons: a ring whose last vertex repeats its first (written closed)
+/// is the ring without that repeat, so `[a, b, c, a]` is the triangle `[a, b, c]` and `[a, b, a]`
+/// the two vertices `[a, b]` (which the checks then refuse as too few). Only one closing vertex
+/// is dropped: a ring that still repeats its first vertex after that is left for the checks.
+/// Returns whether a vertex was dropped.
+///
+/// The formation family's polygon map reader (`mrpp_formation::polymap::drop_closing_vertex`)
+/// holds a copy of these three lines, tested alike: the two families share no crate but
+/// `mrpp-core`, which has no geometry.
+pub fn drop_closing_vertex(ring: &mut Vec<Point>) -> bool {
+    let closed = ring.len() >= 2 && ring.first() == ring.last();
+    if closed {
+        ring.pop();
+    }
+    closed
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Issue 27 C: the one ring rule, as in the formation polygon map reader.
+    #[test]
+    fn a_repeated_closing_vertex_is_dropped_once() {
+        let (a, b, c) = ([0.0, 0.0], [1.0, 0.0], [0.0, 1.0]);
+        let mut ring = vec![a, b, c, a];
+        assert!(drop_closing_vertex(&mut ring));
+        assert_eq!(ring, vec![a, b, c]);
+        assert!(!drop_closing_vertex(&mut ring));
+        let mut twice = vec![a, b, c, a, a];
+        assert!(drop_closing_vertex(&mut twice));
+        assert_eq!(twice, vec![a, b, c, a]);
+        let mut short = vec![a, b, a];
+        drop_closing_vertex(&mut short);
+        assert_eq!(short, vec![a, b]);
+        let mut empty: Vec<Point> = Vec::new();
+        assert!(!drop_closing_vertex(&mut empty));
+
+        // In a world: a closed square and a closed triangle are the open ones.
+        let p = Path::new("w.json");
+        let with = |obstacle: &str| {
+            format!(
+                r#"{{"workspace": [0, 0, 100, 100], "obstacles": [{obstacle}],
+                   "robots": [{{"start": [10, 10], "goal": [90, 90], "radius": 5, "speed": 4}}]}}"#
+            )
+        };
+        for (open, closed) in [
+            (
+                "[[40, 40], [60, 40], [60, 60], [40, 60]]",
+                "[[40, 40], [60, 40], [60, 60], [40, 60], [40, 40]]",
+            ),
+            (
+                "[[40, 40], [60, 40], [50, 60]]",
+                "[[40, 40], [60, 40], [50, 60], [40, 40]]",
+            ),
+        ] {
+            let o = World::parse(&with(open), p).unwrap();
+            let c = World::parse(&with(closed), p).unwrap();
+            assert_eq!(o, c, "{closed}");
+        }
+        // A closed "triangle" of two distinct vertices is too few.
+        let e = World::parse(&with("[[40, 40], [60, 40], [40, 40]]"), p)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("obstacles[0]: needs at least 3 vertices, has 2"),
+            "{e}"
+        );
+    }
 
     fn world(extra: &str) -> String {
         format!(

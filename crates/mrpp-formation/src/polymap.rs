@@ -14,11 +14,15 @@
 //!
 //! Accepted: any vertex order (orientation is normalised: border counter-clockwise, obstacles
 //! clockwise), obstacles touching the border, decimal and signed coordinates, CRLF line ends, blank
-//! lines, `#` comments (whole-line or trailing), a missing `[SCALE]` (= 1). Refused, each as one
-//! error naming file and line: an unknown section, a non-numeric field or a wrong field count, a
-//! polygon with fewer than 3 vertices, a polygon with repeated consecutive vertices or zero area
-//! (an "open" polygon), a self-intersecting polygon, an obstacle outside the border, a missing or
-//! second `[BORDER]`, a non-positive or non-finite scale.
+//! lines, `#` comments (whole-line or trailing), a missing `[SCALE]` (= 1), and a polygon written
+//! closed: its last vertex repeating its first, that repeated closing vertex is dropped, once,
+//! before any check ([`drop_closing_vertex`]: the one ring rule, which the continuous family's
+//! world reader, `mrpp_continuous::world`, applies too). Refused, each as one error naming file
+//! and line: an unknown section, a non-numeric field or a wrong field count, a polygon with fewer
+//! than 3 vertices (after the closing vertex is dropped), a polygon with repeated consecutive
+//! vertices (a closing vertex written twice included) or zero area, a self-intersecting polygon,
+//! an obstacle outside the border, a missing or second `[BORDER]`, a non-positive or non-finite
+//! scale.
 
 use std::path::Path;
 
@@ -90,6 +94,7 @@ impl PolygonMap {
         let mut border: Option<Polygon> = None;
         let mut obstacles = Vec::new();
         for (kind, mut poly) in sections {
+            drop_closing_vertex(&mut poly.vertices);
             for v in &mut poly.vertices {
                 *v = [v[0] * scale, v[1] * scale];
             }
@@ -270,6 +275,23 @@ fn numbers(line: &str, path: &Path, no: usize) -> Result<Vec<f64>> {
         .collect()
 }
 
+/// The one ring rule for polygons: a ring whose last vertex repeats its first (written closed)
+/// is the ring without that repeat, so `[a, b, c, a]` is the triangle `[a, b, c]` and `[a, b, a]`
+/// the two vertices `[a, b]` (which the checks then refuse as too few). Only one closing vertex
+/// is dropped: a ring that still repeats its first vertex after that is left for the checks.
+/// Returns whether a vertex was dropped.
+///
+/// The continuous family's world reader (`mrpp_continuous::world::drop_closing_vertex`) holds a
+/// copy of these three lines, tested alike: the two families share no crate but `mrpp-core`,
+/// which has no geometry.
+pub fn drop_closing_vertex(ring: &mut Vec<Point>) -> bool {
+    let closed = ring.len() >= 2 && ring.first() == ring.last();
+    if closed {
+        ring.pop();
+    }
+    closed
+}
+
 /// At least 3 distinct consecutive vertices, non-zero area, no self-intersection.
 fn check_polygon(p: &Polygon, path: &Path) -> Result<()> {
     let n = p.vertices.len();
@@ -286,7 +308,8 @@ fn check_polygon(p: &Polygon, path: &Path) -> Result<()> {
             path,
             p.line,
             format!(
-                "vertices {} and {} coincide: the polygon is not closed properly",
+                "vertices {} and {} coincide: consecutive vertices must differ (a closing \
+                 vertex repeating the first is written at most once)",
                 i + 1,
                 (i + 1) % n + 1
             ),
@@ -399,6 +422,50 @@ mod tests {
             m.polygons().map(|p| p.vertices.clone()).collect()
         };
         assert_eq!(shape(&again), shape(&m));
+    }
+
+    /// Issue 27 C: the one ring rule, as in the continuous world reader: a polygon written
+    /// closed is the open one (it used to be refused: "not closed properly").
+    #[test]
+    fn a_repeated_closing_vertex_is_dropped_once() {
+        let (a, b, c) = ([0.0, 0.0], [1.0, 0.0], [0.0, 1.0]);
+        let mut ring = vec![a, b, c, a];
+        assert!(drop_closing_vertex(&mut ring));
+        assert_eq!(ring, vec![a, b, c]);
+        assert!(!drop_closing_vertex(&mut ring));
+        let mut twice = vec![a, b, c, a, a];
+        assert!(drop_closing_vertex(&mut twice));
+        assert_eq!(twice, vec![a, b, c, a]);
+        let mut short = vec![a, b, a];
+        drop_closing_vertex(&mut short);
+        assert_eq!(short, vec![a, b]);
+        let mut empty: Vec<Point> = Vec::new();
+        assert!(!drop_closing_vertex(&mut empty));
+
+        let open = parse("[BORDER]\n0 0\n10 0\n10 10\n0 10\n[OBSTACLE]\n2 2\n4 2\n3 4\n").unwrap();
+        let closed =
+            parse("[BORDER]\n0 0\n10 0\n10 10\n0 10\n0 0\n[OBSTACLE]\n2 2\n4 2\n3 4\n2 2\n")
+                .unwrap();
+        let shape = |m: &PolygonMap| -> Vec<Vec<Point>> {
+            m.polygons().map(|p| p.vertices.clone()).collect()
+        };
+        assert_eq!(shape(&closed), shape(&open));
+        assert_eq!(closed.border.vertices.len(), 4);
+        assert_eq!(closed.obstacles[0].vertices.len(), 3);
+        // Two distinct vertices written closed are too few; a closing vertex written twice
+        // leaves a repeated pair.
+        let border = "[BORDER]\n0 0\n10 0\n10 10\n0 10\n";
+        let e = parse(&format!("{border}[OBSTACLE]\n2 2\n4 2\n2 2\n"))
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("m.txt:6:") && e.contains("at least 3 vertices, this one has 2"),
+            "{e}"
+        );
+        let e = parse(&format!("{border}[OBSTACLE]\n2 2\n4 2\n3 4\n2 2\n2 2\n"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("m.txt:6:") && e.contains("coincide"), "{e}");
     }
 
     #[test]
