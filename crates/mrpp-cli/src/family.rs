@@ -444,13 +444,9 @@ fn run_planner<P: Problem + 'static>(
     let deadline = Deadline::after(limit);
     let loaded = (def.load)(&req.inputs)?;
     let load_ms = load_started.elapsed().as_secs_f64() * 1e3;
-    let bar = if announce {
-        progress::bar()
-    } else {
-        indicatif::ProgressBar::hidden()
-    };
+    let live = announce.then(|| progress::Live::start(entry.name));
     let ctx = Ctx {
-        progress: announce.then(|| progress::callback(&bar)),
+        progress: live.as_ref().map(progress::Live::callback),
         ..Ctx::new(req.seed, deadline)
     };
     if announce {
@@ -476,7 +472,9 @@ fn run_planner<P: Problem + 'static>(
     }
     let started = Instant::now();
     let outcome = solve(planner.as_ref(), &loaded.problem, &ctx);
-    bar.finish_and_clear();
+    if let Some(live) = live {
+        live.finish();
+    }
     let runtime_ms = started.elapsed().as_secs_f64() * 1e3;
     let info = RunInfo {
         planner: entry.name.to_string(),

@@ -57,6 +57,10 @@ struct Cli {
     /// memory). A planner that reaches it stops as at its time limit: exit 3, "memory limit".
     #[arg(long, global = true, value_name = "MB", allow_negative_numbers = true, value_parser = output::parse_count)]
     memory_limit: Option<usize>,
+    /// How a planner's progress is shown on stderr: auto (a spinner or bar on a terminal),
+    /// plain (a line every half second, for logs), none.
+    #[arg(long, global = true, value_enum, default_value = "auto")]
+    progress: progress::Mode,
 }
 
 #[derive(Subcommand)]
@@ -271,6 +275,7 @@ pub fn main() -> ExitCode {
         }
     };
     output::set_verbosity(cli.quiet, cli.verbose);
+    progress::set_mode(cli.progress);
     mrpp_core::memory::set_limit(match cli.memory_limit {
         Some(mb) => Some(mb.saturating_mul(1 << 20)),
         None => mrpp_core::memory::default_limit(),

@@ -500,3 +500,82 @@ fn drawing_an_invalid_plan_says_so() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Item 3: no planner is silent. With `--progress plain` (what a terminal shows as a spinner or
+/// bar) every planner of every family prints a progress line every half second: a run that
+/// lasts longer than 1.2 s has printed one by then.
+#[test]
+fn every_planner_shows_progress_within_a_second() {
+    let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data");
+    let d = |rel: &str| data.join(rel).to_string_lossy().into_owned();
+    let (map, scen) = (
+        d("movingai/random-32-32-20.map"),
+        d("movingai/random-32-32-20-random-1.scen"),
+    );
+    let grid = ["-m", map.as_str(), "-i", scen.as_str(), "-N", "300"];
+    let (trees, formation, world) = (
+        d("trees/example.json"),
+        d("formation/var_density2-8.json"),
+        d("continuous/circle-16.json"),
+    );
+    let mut silent = Vec::new();
+    let mut checked = 0;
+    for (planners, inputs) in [
+        (
+            &[
+                "hstar",
+                "ca",
+                "hca",
+                "whca",
+                "coevolution",
+                "nsga3",
+                "pibt",
+                "lacam",
+                "cbs",
+                "eecbs",
+            ][..],
+            &grid[..],
+        ),
+        (&["psw", "gp"][..], &["--instance", trees.as_str()][..]),
+        (
+            &["sequential", "ga", "exact"][..],
+            &["--formation", formation.as_str()][..],
+        ),
+        (
+            &["hbmo", "de", "pso", "orca"][..],
+            &["--world", world.as_str()][..],
+        ),
+    ] {
+        for planner in planners {
+            let started = std::time::Instant::now();
+            let o = std::process::Command::new(env!("CARGO_BIN_EXE_mrpp"))
+                .args([
+                    "--progress",
+                    "plain",
+                    "solve",
+                    "-P",
+                    planner,
+                    "-t",
+                    "1.5",
+                    "-o",
+                    "/dev/null",
+                ])
+                .args(inputs)
+                .output()
+                .unwrap();
+            let secs = started.elapsed().as_secs_f64();
+            let err = String::from_utf8_lossy(&o.stderr);
+            if secs > 1.2 {
+                checked += 1;
+                if !err.contains(&format!("[0.5 s] {planner}")) {
+                    silent.push(format!("{planner} ({secs:.1} s): {err}"));
+                }
+            }
+        }
+    }
+    assert!(silent.is_empty(), "silent: {silent:?}");
+    assert!(
+        checked >= 3,
+        "too few planners ran long enough to check ({checked})"
+    );
+}
