@@ -120,6 +120,16 @@ fn draw(scene: &Value, t: Option<usize>) -> String {
             (scale * 0.12).max(1.0)
         );
     }
+    // Graph nodes (trees): a small grey dot each, so a path that ends on an empty node ends on
+    // something.
+    for node in scene["nodes"].as_array().into_iter().flatten() {
+        let (x, y) = xy(point(node));
+        let _ = write!(
+            s,
+            r##"<circle cx="{x:.2}" cy="{y:.2}" r="{:.2}" fill="#bbb"/>"##,
+            (scale * 0.14).max(2.0)
+        );
+    }
     let agents = scene["agents"].as_array().cloned().unwrap_or_default();
     for (i, a) in agents.iter().enumerate() {
         let r = a["radius"].as_f64().unwrap_or(0.4) * scale;
@@ -251,6 +261,14 @@ mod tests {
                 "path": [[0.5, 0.5], [1.5, 0.5], [1.5, 0.5], [1.5, 0.5], [2.5, 0.5]]}]
         });
         assert!(paths_svg(&waiting).contains("<title>agent 0 waits 2 step(s) at t=1</title>"));
+        let tree = serde_json::json!({
+            "bounds": [0.0, 0.0, 3.0, 1.0],
+            "nodes": [[0.5, 0.5], [1.5, 0.5], [2.5, 0.5]],
+            "segments": [[[0.5, 0.5], [1.5, 0.5]], [[1.5, 0.5], [2.5, 0.5]]],
+            "agents": [{"radius": 0.4, "start": [0.5, 0.5], "goal": [1.5, 0.5], "path": [[0.5, 0.5], [1.5, 0.5]]}]
+        });
+        // Every node is drawn, the empty ones too (paths ended in mid-air).
+        assert_eq!(paths_svg(&tree).matches(r##"fill="#bbb""##).count(), 3);
         let frame = frame_svg(&scene, 1);
         assert!(frame.contains(">t = 1 of 2</text>"), "{frame}");
         assert!(frame.contains(">2 agents, one colour each</text>"));
