@@ -187,12 +187,28 @@ fn draw(scene: &Value, t: Option<usize>) -> String {
             }
         }
     }
+    // Agents on one point (a formation's robots at Q_ini or on a roadmap vertex) are drawn
+    // around it, each at its own angle, so three robots do not look like one.
+    let points: Vec<Option<[f64; 2]>> = agents
+        .iter()
+        .map(|a| at(scene, a, t.unwrap_or(0)))
+        .collect();
+    let same = |p: [f64; 2], q: [f64; 2]| (p[0] - q[0]).abs() < 1e-9 && (p[1] - q[1]).abs() < 1e-9;
     for (i, a) in agents.iter().enumerate() {
-        let Some(p) = at(scene, a, t.unwrap_or(0)) else {
+        let Some(p) = points[i] else {
             continue;
         };
         let r = (a["radius"].as_f64().unwrap_or(0.4) * scale).max(1.5);
-        let (sx, sy) = xy(p);
+        let (mut sx, mut sy) = xy(p);
+        let here: Vec<usize> = (0..agents.len())
+            .filter(|&j| points[j].is_some_and(|q| same(p, q)))
+            .collect();
+        if here.len() > 1 {
+            let k = here.iter().position(|&j| j == i).unwrap_or(0) as f64;
+            let angle = std::f64::consts::TAU * k / here.len() as f64;
+            sx += r * 1.1 * angle.cos();
+            sy += r * 1.1 * angle.sin();
+        }
         let _ = write!(
             s,
             r##"<circle cx="{sx:.2}" cy="{sy:.2}" r="{r:.2}" fill="{}"/>"##,
@@ -269,6 +285,20 @@ mod tests {
         });
         // Every node is drawn, the empty ones too (paths ended in mid-air).
         assert_eq!(paths_svg(&tree).matches(r##"fill="#bbb""##).count(), 3);
+        // Three robots on one point are three discs at three places.
+        let group = serde_json::json!({
+            "bounds": [0.0, 0.0, 3.0, 1.0],
+            "agents": (0..3).map(|_| serde_json::json!({"radius": 0.2, "start": [1.5, 0.5],
+                "goal": [2.5, 0.5], "path": [[1.5, 0.5]]})).collect::<Vec<_>>()
+        });
+        let svg = frame_svg(&group, 0);
+        let centres: std::collections::BTreeSet<String> = svg
+            .split("<circle cx=\"")
+            .skip(1)
+            .filter(|c| !c.contains("fill=\"#666\""))
+            .map(|c| c.split("\" r=").next().unwrap().to_string())
+            .collect();
+        assert_eq!(centres.len(), 3, "{svg}");
         let frame = frame_svg(&scene, 1);
         assert!(frame.contains(">t = 1 of 2</text>"), "{frame}");
         assert!(frame.contains(">2 agents, one colour each</text>"));
