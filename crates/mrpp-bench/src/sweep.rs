@@ -201,6 +201,13 @@ impl SweepConfig {
     /// Reads a TOML sweep; relative paths in it are taken from the file's folder.
     pub fn load(path: &Path) -> Result<Self> {
         let text = read_file(path)?;
+        if text.trim_start().starts_with('{') {
+            return Err(Error::parse(
+                path,
+                1,
+                "this is JSON; a bench config is TOML (see bench/configs/example.toml)",
+            ));
+        }
         let mut cfg: SweepConfig = toml::from_str(&text).map_err(|e| {
             let line = e
                 .span()

@@ -579,3 +579,54 @@ fn every_planner_shows_progress_within_a_second() {
         "too few planners ran long enough to check ({checked})"
     );
 }
+
+/// Item 8 (part): a file of the wrong kind is named as such: a grid map given to `gen formation`
+/// ("`type` is not a number" before), a JSON file given to `bench run --config` ("invalid
+/// key-value pair" before).
+#[test]
+fn a_file_of_the_wrong_kind_is_named_as_such() {
+    let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data");
+    let dir = std::env::temp_dir().join(format!("mrpp-wrong-kind-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let json = dir.join("sweep.json");
+    std::fs::write(&json, "{\"name\": \"x\"}\n").unwrap();
+    let map = data.join("movingai/random-32-32-20.map");
+    for (args, says) in [
+        (
+            vec![
+                "gen",
+                "formation",
+                "--map",
+                map.to_str().unwrap(),
+                "--robots",
+                "2",
+                "-s",
+                "0",
+                "-o",
+                "f.json",
+            ],
+            "this is a MovingAI grid map; formations need a polygon map",
+        ),
+        (
+            vec![
+                "bench",
+                "run",
+                "--config",
+                json.to_str().unwrap(),
+                "-o",
+                "out",
+            ],
+            "this is JSON; a bench config is TOML",
+        ),
+    ] {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_mrpp"))
+            .args(&args)
+            .current_dir(&dir)
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{err}");
+        assert!(err.contains(says), "{args:?}: {err}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

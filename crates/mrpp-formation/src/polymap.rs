@@ -191,6 +191,17 @@ enum Kind {
 
 /// Splits the text into its scale and polygon sections (vertices unscaled).
 fn sections(text: &str, path: &Path) -> Result<(f64, Vec<(Kind, Polygon)>)> {
+    // A grid map given where a polygon map belongs (`gen formation --map room.map`): say so,
+    // rather than that `type` is not a number.
+    let first = text.lines().find(|l| !l.trim().is_empty()).unwrap_or("");
+    if first.trim_start().starts_with("type ") {
+        return Err(Error::parse(
+            path,
+            1,
+            "this is a MovingAI grid map; formations need a polygon map ([SCALE], [BORDER] and \
+             [OBSTACLE] sections of x y vertices; e.g. data/polygon-maps/gaps.txt)",
+        ));
+    }
     let mut scale: Option<f64> = None;
     let mut in_scale = false;
     let mut out: Vec<(Kind, Polygon)> = Vec::new();
