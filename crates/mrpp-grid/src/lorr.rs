@@ -4,11 +4,13 @@
 //! the JSON), as in the competition's start kit (GitHub `MAPF-Competition/Start-Kit`, file
 //! `Input_Output_Format.md`; MIT licence). Both layouts are read:
 //!
-//! - **2023/2024** (`r2024` branch): `mapFile`, `agentFile`, `teamSize`, `taskFile`,
-//!   `numTasksReveal`, `taskAssignmentStrategy`; task lines hold one location.
-//! - **2026** (`main` branch): the same keys plus `version`, `agentCounter`, `agentSize`,
-//!   `delayConfig`; the agent and task files start with a `#` comment line and a task line is a
-//!   comma-separated sequence of errand locations (`203,453`), visited in order.
+//! - **2023** (start kit 1.1.2, the `r2024` branch despite its name): `mapFile`, `agentFile`,
+//!   `teamSize`, `taskFile`, `numTasksReveal`, `taskAssignmentStrategy`; task lines hold one
+//!   location.
+//! - **2024** (tags v2.x) and **2026** (v3.x, `main`): the same keys plus `version`, and in 2026
+//!   `agentCounter`, `agentSize`, `delayConfig`; the agent and task files may hold `#` comment
+//!   lines and a task line is a comma-separated sequence of errand locations (`203,453`),
+//!   visited in order. `docs/lorr-semantics.md` has the kit's semantics in full.
 //!
 //! The map is a MovingAI map whose cells may also be `E` (emitter) and `S` (service), both
 //! traversable ([`crate::map`]). Locations are linearised: `loc = row * width + col`.
