@@ -5,8 +5,12 @@
 //! has stood on its goal at some step. Meant for a few agents on a few vertices only.
 use std::collections::{HashSet, VecDeque};
 
+use std::time::Duration;
+
 use mrpp_core::mapf::plan::{GoalSemantics, Rules};
-use mrpp_core::{Graph, Instance, VertexId};
+use mrpp_core::{
+    Ctx, Deadline, Graph, Instance, MapfProblem, PlannerEntry, Unsolved, VertexId, solve,
+};
 
 /// Whether any plan exists (`None` when the joint space exceeds `cap` configurations).
 pub fn solvable(g: &Graph, inst: &Instance, rules: Rules, cap: usize) -> Option<bool> {
@@ -96,4 +100,34 @@ fn legal(from: &[VertexId], to: &[VertexId], following: bool) -> bool {
 /// Whether a planner's "not solved" message claims the instance has no plan.
 pub fn claims_unsolvable(why: &str) -> bool {
     why.contains("no solution") || why.contains("cannot reach its goal")
+}
+
+/// Runs every planner of `planners` on `problem` through `solve` (the validator) with a 1 ms
+/// limit and checks what it says against `truth` ([`solvable`]): no invalid plan, no plan for an
+/// unsolvable instance, no "no solution" claim for a solvable one.
+pub fn check_planners(planners: &[PlannerEntry<MapfProblem>], problem: &MapfProblem, seed: u64) {
+    let inst = problem.instance();
+    let truth = solvable(problem.graph(), inst, problem.rules(), 200_000);
+    for entry in planners {
+        let planner = entry.instantiate(&[]).expect("defaults build");
+        let ctx = Ctx::new(seed, Deadline::after(Duration::from_millis(1)));
+        match solve(planner.as_ref(), problem, &ctx) {
+            Ok(_) => assert_ne!(
+                truth,
+                Some(false),
+                "{} solved an unsolvable instance",
+                entry.name
+            ),
+            Err(Unsolved::Invalid(why)) => panic!("{}: {why}", entry.name),
+            Err(Unsolved::GaveUp(why)) if claims_unsolvable(&why) => {
+                assert_ne!(
+                    truth,
+                    Some(true),
+                    "{} says `{why}` but a plan exists",
+                    entry.name
+                )
+            }
+            Err(_) => {}
+        }
+    }
 }

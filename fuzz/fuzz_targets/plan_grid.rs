@@ -4,10 +4,8 @@
 //! limit. It must not panic or return an invalid plan, and a claim that the instance has no plan
 //! must agree with a brute-force search over joint configurations (`brute.rs`).
 #![no_main]
-use std::time::Duration;
-
 use libfuzzer_sys::fuzz_target;
-use mrpp_core::{Ctx, Deadline, Instance, Unsolved, solve};
+use mrpp_core::Instance;
 use mrpp_grid::{GridMap, PLANNERS};
 
 #[path = "brute.rs"]
@@ -42,28 +40,6 @@ fuzz_target!(|bytes: &[u8]| {
     let Ok(inst) = Instance::new(starts, goals) else {
         return;
     };
-    let problem = mrpp_grid::problem_on(&map, inst.clone());
-    let truth = brute::solvable(map.graph(), &inst, problem.rules(), 200_000);
-    for entry in PLANNERS {
-        let planner = entry.instantiate(&[]).expect("defaults build");
-        let ctx = Ctx::new(u64::from(*shape), Deadline::after(Duration::from_millis(1)));
-        match solve(planner.as_ref(), &problem, &ctx) {
-            Ok(_) => assert_ne!(
-                truth,
-                Some(false),
-                "{} solved an unsolvable instance",
-                entry.name
-            ),
-            Err(Unsolved::Invalid(why)) => panic!("{}: {why}", entry.name),
-            Err(Unsolved::GaveUp(why)) if brute::claims_unsolvable(&why) => {
-                assert_ne!(
-                    truth,
-                    Some(true),
-                    "{} says `{why}` but a plan exists",
-                    entry.name
-                )
-            }
-            Err(_) => {}
-        }
-    }
+    let problem = mrpp_grid::problem_on(&map, inst);
+    brute::check_planners(PLANNERS, &problem, u64::from(*shape));
 });
