@@ -2,7 +2,28 @@
 //! the GP row turned the eleven rows after it into raw `|` text), and shell completion offers
 //! planner, family and world-kind names rather than file names (item 4).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+
+/// What one run of `mrpp` gave: exit code, stdout, stderr.
+struct Ran {
+    code: Option<i32>,
+    out: String,
+    err: String,
+}
+
+/// Runs `mrpp args` in `dir`.
+fn mrpp_in(dir: &Path, args: &[&str]) -> Ran {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_mrpp"))
+        .args(args)
+        .current_dir(dir)
+        .output()
+        .expect("run mrpp");
+    Ran {
+        code: o.status.code(),
+        out: String::from_utf8_lossy(&o.stdout).into_owned(),
+        err: String::from_utf8_lossy(&o.stderr).into_owned(),
+    }
+}
 
 #[test]
 fn the_readme_command_table_is_one_unbroken_table() {
@@ -61,15 +82,8 @@ fn mixed_or_missing_inputs_and_negative_numbers_are_named() {
     let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data");
     let d = |rel: &str| data.join(rel).to_string_lossy().into_owned();
     let run = |args: &[&str]| {
-        let o = std::process::Command::new(env!("CARGO_BIN_EXE_mrpp"))
-            .args(args)
-            .current_dir(std::env::temp_dir())
-            .output()
-            .unwrap();
-        (
-            o.status.code(),
-            String::from_utf8_lossy(&o.stderr).into_owned(),
-        )
+        let r = mrpp_in(&std::env::temp_dir(), args);
+        (r.code, r.err)
     };
     let (map, scen, world) = (
         d("movingai/random-32-32-20.map"),
@@ -179,17 +193,8 @@ fn readme_commands_leave_no_trace_and_its_picture_is_what_they_draw() {
     let data = root.join("data/hstar-paper/scenario3");
     let (map, robots) = (data.join("scenery_warehouse.txt"), data.join("30warehouse"));
     let run = |args: &[&str]| {
-        let o = std::process::Command::new(env!("CARGO_BIN_EXE_mrpp"))
-            .args(args)
-            .current_dir(&dir)
-            .output()
-            .unwrap();
-        assert_eq!(
-            o.status.code(),
-            Some(0),
-            "{}",
-            String::from_utf8_lossy(&o.stderr)
-        );
+        let r = mrpp_in(&dir, args);
+        assert_eq!(r.code, Some(0), "{}", r.err);
     };
     let m = map.to_str().unwrap();
     run(&[
@@ -301,13 +306,7 @@ fn bad_parameter_values_say_what_they_must_be() {
 #[test]
 fn summaries_state_lower_bounds_and_round_numbers() {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data");
-    let run = |args: &[&str]| {
-        let o = std::process::Command::new(env!("CARGO_BIN_EXE_mrpp"))
-            .args(args)
-            .output()
-            .unwrap();
-        String::from_utf8_lossy(&o.stdout).into_owned()
-    };
+    let run = |args: &[&str]| mrpp_in(&std::env::temp_dir(), args).out;
     let lorr = root.join("robot-runners/lorr2026-maze/maze-example_40.json");
     let out = std::env::temp_dir().join(format!("mrpp-summary-{}.json", std::process::id()));
     let o = out.to_str().unwrap();
@@ -456,15 +455,8 @@ fn drawing_an_invalid_plan_says_so() {
     let dir = std::env::temp_dir().join(format!("mrpp-teleport-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let run = |args: &[&str]| {
-        let o = std::process::Command::new(env!("CARGO_BIN_EXE_mrpp"))
-            .args(args)
-            .current_dir(&dir)
-            .output()
-            .unwrap();
-        (
-            o.status.code(),
-            String::from_utf8_lossy(&o.stderr).into_owned(),
-        )
+        let r = mrpp_in(&dir, args);
+        (r.code, r.err)
     };
     let map = m.to_str().unwrap();
     let (code, _) = run(&[
