@@ -28,7 +28,6 @@ fn at(scene: &Value, a: &Value, k: usize) -> Option<[f64; 2]> {
 }
 
 /// Steps of the scene's plan.
-#[cfg(feature = "raster")]
 pub(crate) fn steps(scene: &Value) -> usize {
     scene["agents"]
         .as_array()
