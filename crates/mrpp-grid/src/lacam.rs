@@ -294,6 +294,20 @@ pub(crate) fn search(
     goals: &[VertexId],
     ctx: &Ctx,
 ) -> Result<(Vec<Vec<VertexId>>, Report), Unsolved> {
+    search_within(lacam, graph, starts, goals, ctx, u64::MAX, None)
+}
+
+/// [`search`] that also stops after `max_iterations` iterations (constraint nodes taken from the
+/// stack) or at `until`, as at the deadline: [`Unsolved::TimeLimit`] unless a plan was found.
+fn search_within(
+    lacam: &Lacam,
+    graph: &Graph,
+    starts: &[VertexId],
+    goals: &[VertexId],
+    ctx: &Ctx,
+    max_iterations: u64,
+    until: Option<Instant>,
+) -> Result<(Vec<Vec<VertexId>>, Report), Unsolved> {
     let began = Instant::now();
     let n = starts.len();
     let mut dist = GoalDistances::new(graph, goals);
@@ -323,7 +337,10 @@ pub(crate) fn search(
     let mut lns: Option<Lns> = None;
     let mut iterations = 0u64;
     while let Some(&top) = open.last() {
-        if ctx.deadline.expired() {
+        if ctx.deadline.expired()
+            || iterations >= max_iterations
+            || until.is_some_and(|u| Instant::now() >= u)
+        {
             break;
         }
         iterations += 1;
@@ -451,6 +468,121 @@ pub(crate) fn search(
         lns_improvements: lns.as_ref().map_or(0, |l| l.counts().1),
     };
     Ok((configs, report))
+}
+
+/// Cells a component may have for [`proven_unsolvable`] to search it (larger ones are not
+/// explored to their end: one breadth-first search of at most this many cells per agent).
+const EXHAUST_CELLS: usize = 1024;
+
+/// A proof that the instance `starts -> goals` on `graph` has no plan, by LaCAM's exhaustive
+/// search (complete: it reports so only once every reachable configuration was expanded; see the
+/// module doc), or `None` when no proof was found: a plan exists, the deadline passed, the budget
+/// ran out or a component is too large.
+///
+/// Agents in different connected components never meet, so the instance has a plan iff every
+/// component's agents have one among themselves: each component of at most [`EXHAUST_CELLS`]
+/// cells holding two agents or more is searched alone, for at most `max_iterations` iterations
+/// (constraint nodes taken from LaCAM's stack; a configuration costs `1 + 5 + 5^2 + ...` of them
+/// on a grid, up to its number of agents) and until `until` at the latest (the components
+/// together; the deadline of `ctx` applies as well); a component with one agent has a plan iff
+/// its goal is there. Rules: the validator's grid rules (stay at the goal, following allowed),
+/// which are LaCAM's successor rules.
+///
+/// Cost, measured on corridors where two agents must swap (about `L^2 / 2` configurations, 13
+/// iterations each): 0.3 s and 28 MB to exhaust 200 cells, 1.4 s and 96 MB for 400 (LaCAM's own
+/// run on them), about 100 bytes per iteration; so the caller bounds the iterations (memory) and
+/// the time in proportion to the work it has already done. Used by CBS and EECBS
+/// ([`crate::cbs`]), which cannot tell an unsolvable instance from a hard one (issue 27, item 4:
+/// a 10-cell corridor swap grew CBS to 4.6 GB in 60 s).
+pub(crate) fn proven_unsolvable(
+    graph: &Graph,
+    starts: &[VertexId],
+    goals: &[VertexId],
+    ctx: &Ctx,
+    max_iterations: u64,
+    until: Instant,
+) -> Option<String> {
+    let n = starts.len();
+    if n < 2 {
+        return None;
+    }
+    let by_start: FxHashMap<VertexId, usize> =
+        starts.iter().enumerate().map(|(i, &v)| (v, i)).collect();
+    let mut done = vec![false; n];
+    // The component being explored: its cells in breadth-first order, and each one's index there.
+    let mut cells: Vec<VertexId> = Vec::new();
+    let mut local: FxHashMap<VertexId, VertexId> = FxHashMap::default();
+    for first in 0..n {
+        if done[first] {
+            continue;
+        }
+        if ctx.deadline.expired() || Instant::now() >= until {
+            return None;
+        }
+        cells.clear();
+        local.clear();
+        cells.push(starts[first]);
+        local.insert(starts[first], 0);
+        let mut head = 0;
+        while head < cells.len() && cells.len() <= EXHAUST_CELLS {
+            let u = cells[head];
+            head += 1;
+            for &v in graph.neighbors(u) {
+                if let std::collections::hash_map::Entry::Vacant(e) = local.entry(v) {
+                    e.insert(cells.len() as VertexId);
+                    cells.push(v);
+                }
+            }
+        }
+        let mut agents: Vec<usize> = cells
+            .iter()
+            .filter_map(|v| by_start.get(v).copied())
+            .collect();
+        agents.sort_unstable();
+        for &i in &agents {
+            done[i] = true;
+        }
+        // Too large: not explored to its end.
+        if cells.len() > EXHAUST_CELLS {
+            continue;
+        }
+        let mut sub_goals = Vec::with_capacity(agents.len());
+        for &i in &agents {
+            match local.get(&goals[i]) {
+                Some(&g) => sub_goals.push(g),
+                None => return Some(format!("agent {i} cannot reach its goal")),
+            }
+        }
+        if agents.len() < 2 {
+            continue;
+        }
+        let sub_starts: Vec<VertexId> = agents.iter().map(|&i| local[&starts[i]]).collect();
+        let adjacency: Vec<Vec<VertexId>> = cells
+            .iter()
+            .map(|&u| graph.neighbors(u).iter().map(|v| local[v]).collect())
+            .collect();
+        let sub = Graph::from_adjacency(&adjacency, None);
+        let lacam = Lacam::default();
+        if let Err(Unsolved::GaveUp(_)) = search_within(
+            &lacam,
+            &sub,
+            &sub_starts,
+            &sub_goals,
+            ctx,
+            max_iterations,
+            Some(until),
+        ) {
+            let names: Vec<String> = agents.iter().map(usize::to_string).collect();
+            let (last, rest) = names.split_last().expect("two agents or more");
+            return Some(format!(
+                "no plan exists: agents {} and {last} share a component of {} cells, and LaCAM \
+                 exhausted every configuration they can reach there without reaching their goals",
+                rest.join(", "),
+                cells.len()
+            ));
+        }
+    }
+    None
 }
 
 /// LaCAM* iterations between two LNS rounds, and LNS steps per round.
@@ -718,6 +850,37 @@ mod tests {
             solve(&Lacam::default(), &p, &Ctx::default()),
             Err(Unsolved::GaveUp(_))
         ));
+    }
+
+    #[test]
+    fn unsolvability_is_proven_component_by_component() {
+        // A corridor 0-1-2-3 (component A) and a plus 4..=8 centred on 4 (component B).
+        let g = Graph::from_edges(9, &[(0, 1), (1, 2), (2, 3), (4, 5), (4, 6), (4, 7), (4, 8)]);
+        let ctx = Ctx::default();
+        let later = Instant::now() + std::time::Duration::from_secs(30);
+        let proof = |starts: Vec<VertexId>, goals: Vec<VertexId>| {
+            proven_unsolvable(&g, &starts, &goals, &ctx, u64::MAX, later)
+        };
+        // Two agents swap the corridor's ends: no plan, whatever the others do on the plus.
+        let why = proof(vec![5, 0, 6, 3], vec![6, 3, 5, 0]).expect("a proof");
+        assert!(
+            why.contains("agents 1 and 3 share a component of 4 cells"),
+            "{why}"
+        );
+        // The swap on the plus has a plan, and so has the corridor when its agents keep order.
+        assert_eq!(proof(vec![5, 0, 6, 3], vec![6, 1, 5, 2]), None);
+        // A goal in another component.
+        let why = proof(vec![0, 5], vec![1, 2]).expect("a proof");
+        assert!(why.contains("agent 1 cannot reach its goal"), "{why}");
+        // One agent per component: nothing to search.
+        assert_eq!(proof(vec![0, 5], vec![3, 6]), None);
+        // No budget (or no time): no proof.
+        let (starts, goals) = (vec![0, 3], vec![3, 0]);
+        assert_eq!(proven_unsolvable(&g, &starts, &goals, &ctx, 1, later), None);
+        assert_eq!(
+            proven_unsolvable(&g, &starts, &goals, &ctx, u64::MAX, Instant::now()),
+            None
+        );
     }
 
     /// The T-tree of baselines §1: A-B-C, C-D, C-E (0..=4); r1: A -> B, r2: B -> A.

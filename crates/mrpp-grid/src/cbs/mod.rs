@@ -23,16 +23,33 @@
 //! optimum. `ĥ` is learned online (EECBS §4.3): after each expansion the best child's one-step
 //! errors in cost (`ε_h`) and in conflicts (`ε_d`) update running means, and `ĥ(n) = d(n) ·
 //! ε̄_h / (1 − ε̄_d)` for `d(n)` conflicts; mrpp caps the divisor below at 0.1 (the paper leaves
-//! `ε̄_d >= 1` open).
+//! `ε̄_d >= 1` open; its authors' code multiplies `ε̄_h` by 10 there, the same). FOCAL is kept
+//! up to date as nodes and `f̂_min` change (`Lists`), so choosing a node costs `O(log n)`.
 //!
-//! *Disjoint splitting* (Li, Harabor, Stuckey, Ma, Koenig, ICAPS 2019; CBS's default,
+//! *Disjoint splitting* (Li, Harabor, Stuckey, Ma, Koenig, ICAPS 2019; the default of both,
 //! `-p splitting=standard` turns it off): a conflict of agents `a` and `b` becomes a child where
 //! `a` may not be at that vertex (or take that edge) then, and one where it must be, which
 //! forbids it to every other agent; the agents whose paths break that are re-planned, and the
-//! low level then searches through the positive constraints as landmarks. EECBS splits the
-//! standard way. Not implemented (named for users comparing with the literature): symmetry
-//! reasoning and the WDG heuristic. CBS does not terminate on unsolvable instances that have
-//! infinitely many constraint sets; the time limit ends it.
+//! low level then searches through the positive constraints as landmarks. The two children share
+//! no plan. With standard splitting they share every plan in which neither agent is there, so in
+//! corridors, where agents dodge each other one step at a time, the same plans are searched for
+//! again down both branches: on 3-agent swaps in a 5-cell corridor with a one-cell side pocket
+//! (CBS: 0.07 to 0.2 s) EECBS(1.2) ran past 1 s on 12 of 16 and EECBS(2) on 4, some past any
+//! limit, and FOCAL, then rebuilt from OPEN at every expansion, slowed the search to a crawl as
+//! OPEN grew; each now takes 0.15 s at most (issue 27, item 4; `tests/bounded_searches.rs`).
+//! Not implemented (named for users comparing with the literature): symmetry reasoning (target,
+//! corridor, rectangle) and the WDG heuristic.
+//!
+//! *Unsolvable instances*: the constraint tree of an instance without a plan is infinite, and
+//! CBS grew to 4.6 GB in 60 s on two agents swapping the ends of a 10-cell corridor. After 256
+//! expansions, then after 4 times as many each time, the search asks LaCAM's exhaustive search
+//! for a proof that no plan exists (`lacam::proven_unsolvable`: component by component, within a
+//! quarter of the time run so far and 2^20 iterations), and gives up with it
+//! ([`Unsolved::GaveUp`]): that swap in 7 ms, corridors of 100 and 200 cells in 0.4 and 1.2 s.
+//! Beyond LaCAM's reach (a 400-cell corridor swap) the time limit ends the search, as before. A
+//! proof is exact (LaCAM reports it only after expanding every reachable configuration), so an
+//! instance with a plan is never given up on; instances solved before the first attempt never
+//! run one.
 
 pub mod low_level;
 pub mod mdd;
@@ -40,6 +57,7 @@ pub mod mdd;
 use std::collections::{BTreeSet, BinaryHeap};
 use std::rc::Rc;
 use std::sync::Mutex;
+use std::time::{Duration, Instant};
 
 use low_level::{AvoidanceTable, Constraint, Constraints, Found, NoPath, Query, focal_search};
 use mdd::Mdd;
@@ -101,6 +119,11 @@ pub const EECBS_ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             default: "true",
             doc: "adopt a child's path of no greater cost with fewer conflicts instead of splitting",
         },
+        Param {
+            name: "splitting",
+            default: "disjoint",
+            doc: "disjoint = a negative and a positive constraint on one agent (Li et al., ICAPS 2019); standard = one negative constraint on each agent",
+        },
     ],
     build: |p| {
         let w: f64 = p.get_in("w", 1.0..=1000.0)?;
@@ -109,7 +132,7 @@ pub const EECBS_ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             explicit_estimation: true,
             prioritize: w == 1.0,
             bypass: p.choice("bypass", &["false", "true"])? == 1,
-            disjoint: false,
+            disjoint: p.choice("splitting", &["standard", "disjoint"])? == 1,
         })))
     },
 };
@@ -124,7 +147,7 @@ pub struct Settings {
     /// MDD-based conflict prioritisation (only meaningful with optimal low levels, `w = 1`).
     pub prioritize: bool,
     pub bypass: bool,
-    /// Disjoint splitting (CBS only).
+    /// Disjoint splitting (Li et al., ICAPS 2019); false: standard splitting.
     pub disjoint: bool,
 }
 
@@ -163,14 +186,14 @@ impl Cbs {
         })
     }
 
-    /// EECBS with weight `w`.
+    /// EECBS with weight `w` (disjoint splitting, bypass).
     pub fn eecbs(w: f64) -> Self {
         Cbs::new(Settings {
             w,
             explicit_estimation: true,
             prioritize: w == 1.0,
             bypass: true,
-            disjoint: false,
+            disjoint: true,
         })
     }
 
@@ -296,7 +319,25 @@ struct Search<'a> {
     err_h: f64,
     err_d: f64,
     err_n: f64,
+    /// Expansions at which the search next asks LaCAM for a proof that no plan exists.
+    next_check: u64,
+    began: Instant,
 }
+
+/// Expansions before the first proof that no plan exists is attempted (a few milliseconds of
+/// search on small instances; instances solved sooner never attempt one).
+const FIRST_CHECK: u64 = 256;
+/// Each attempt comes after this many times the expansions of the one before.
+const CHECK_GROWTH: u64 = 4;
+/// An attempt may take this fraction of the time the search has run so far, or
+/// [`CHECK_MIN_TIME`] if that is more (with [`CHECK_GROWTH`], the attempts together take about a
+/// third of the search's time at most, beyond the first milliseconds), and at most
+/// [`CHECK_ITERATIONS`] LaCAM iterations: about 100 MB at LaCAM's 100 bytes per iteration on
+/// corridors, freed when the attempt ends. Attempts on solvable instances usually end at once,
+/// LaCAM finding a plan.
+const CHECK_TIME_SHARE: u32 = 4;
+const CHECK_MIN_TIME: Duration = Duration::from_millis(5);
+const CHECK_ITERATIONS: u64 = 1 << 20;
 
 /// A child that could not be made.
 enum Child {
@@ -326,6 +367,8 @@ impl<'a> Search<'a> {
             err_h: 0.0,
             err_d: 0.0,
             err_n: 0.0,
+            next_check: FIRST_CHECK,
+            began: Instant::now(),
         })
     }
 
@@ -599,6 +642,23 @@ impl<'a> Search<'a> {
         }
     }
 
+    /// A proof by LaCAM's exhaustive search that no plan exists
+    /// ([`crate::lacam::proven_unsolvable`]), within a share of the time run so far
+    /// ([`CHECK_TIME_SHARE`]). The constraint tree of an unsolvable instance is infinite: without
+    /// it a 10-cell corridor swap grew CBS to 4.6 GB by its 60 s limit (issue 27, item 4).
+    fn proven_unsolvable(&self) -> Option<String> {
+        let inst = self.problem.instance();
+        let until = Instant::now() + (self.began.elapsed() / CHECK_TIME_SHARE).max(CHECK_MIN_TIME);
+        crate::lacam::proven_unsolvable(
+            self.problem.graph(),
+            &inst.starts,
+            &inst.goals,
+            self.ctx,
+            CHECK_ITERATIONS,
+            until,
+        )
+    }
+
     /// EECBS's online estimate for a node with `d` conflicts.
     fn h_hat(&self, d: usize) -> f64 {
         if self.err_n == 0.0 {
@@ -611,60 +671,33 @@ impl<'a> Search<'a> {
     fn run(mut self) -> Result<(Vec<Path>, Report), Unsolved> {
         let root = self.root()?;
         self.nodes.push(root);
-        let w = self.settings.w;
-        // CBS: min-heap on (cost, conflicts, id). EECBS: CLEANUP by LB, OPEN by f̂.
+        // CBS: min-heap on (cost, conflicts, id). EECBS: its three lists.
         let mut heap: BinaryHeap<std::cmp::Reverse<(u64, usize, u32)>> = BinaryHeap::new();
-        let mut cleanup: BTreeSet<(u64, u32)> = BTreeSet::new();
-        let mut open: BTreeSet<(u64, u32)> = BTreeSet::new();
-        let push = |s: &Self,
-                    id: u32,
-                    heap: &mut BinaryHeap<_>,
-                    cleanup: &mut BTreeSet<_>,
-                    open: &mut BTreeSet<_>| {
+        let mut lists = Lists::new(self.settings.w);
+        let push = |s: &Self, id: u32, heap: &mut BinaryHeap<_>, lists: &mut Lists| {
             let n = &s.nodes[id as usize];
             if s.settings.explicit_estimation {
-                cleanup.insert((n.lb, id));
-                open.insert((n.f_hat().to_bits(), id));
+                lists.insert(&s.nodes, id);
             } else {
                 heap.push(std::cmp::Reverse((n.cost, n.conflicts.len(), id)));
             }
         };
-        push(&self, 0, &mut heap, &mut cleanup, &mut open);
+        push(&self, 0, &mut heap, &mut lists);
         loop {
             if self.ctx.deadline.expired() {
                 return Err(Unsolved::TimeLimit);
             }
+            if self.expanded >= self.next_check {
+                self.next_check = self.expanded.saturating_mul(CHECK_GROWTH);
+                if let Some(why) = self.proven_unsolvable() {
+                    return Err(Unsolved::GaveUp(why));
+                }
+            }
             let k = if self.settings.explicit_estimation {
-                let Some(&(lb_min, best_lb)) = cleanup.first() else {
+                let Some(k) = lists.select(&self.nodes) else {
                     break;
                 };
-                let &(f_bits, best_f) = open.first().expect("same nodes as CLEANUP");
-                let focal_bound = f64::from_bits(f_bits) * w;
-                let best_d = open
-                    .iter()
-                    .take_while(|&&(f, _)| f64::from_bits(f) <= focal_bound + 1e-9)
-                    .map(|&(_, id)| {
-                        (
-                            self.nodes[id as usize].conflicts.len(),
-                            self.nodes[id as usize].f_hat().to_bits(),
-                            id,
-                        )
-                    })
-                    .min()
-                    .map(|(_, _, id)| id)
-                    .expect("the first of OPEN is in FOCAL");
-                let within =
-                    |id: u32| self.nodes[id as usize].cost as f64 <= w * lb_min as f64 + 1e-9;
-                let k = if within(best_d) {
-                    best_d
-                } else if within(best_f) {
-                    best_f
-                } else {
-                    best_lb
-                };
-                let n = &self.nodes[k as usize];
-                cleanup.remove(&(n.lb, k));
-                open.remove(&(n.f_hat().to_bits(), k));
+                lists.remove(&self.nodes, k);
                 k
             } else {
                 let Some(std::cmp::Reverse((_, _, k))) = heap.pop() else {
@@ -672,23 +705,23 @@ impl<'a> Search<'a> {
                 };
                 k
             };
+            // The proven bound: the least LB of the open nodes (k's included) for EECBS, the
+            // popped cost for CBS.
+            let lower_bound = if self.settings.explicit_estimation {
+                lists.lb_min().map_or(self.nodes[k as usize].lb, |lb| {
+                    lb.min(self.nodes[k as usize].lb)
+                })
+            } else {
+                self.nodes[k as usize].cost
+            };
             if self.expanded.is_multiple_of(256) {
                 self.ctx.report(Progress {
                     stage: "constraint-tree nodes",
                     done: self.expanded,
                     total: 0,
-                    note: format!("sum of costs >= {}", self.nodes[k as usize].lb),
+                    note: format!("sum of costs >= {lower_bound}"),
                 });
             }
-            let lower_bound = if self.settings.explicit_estimation {
-                cleanup
-                    .first()
-                    .map_or(self.nodes[k as usize].lb, |&(lb, _)| {
-                        lb.min(self.nodes[k as usize].lb)
-                    })
-            } else {
-                self.nodes[k as usize].cost
-            };
             let Some(children) = self.expand(k)? else {
                 let report = Report {
                     expanded: self.expanded,
@@ -710,12 +743,116 @@ impl<'a> Search<'a> {
                 child.h_hat = self.h_hat(child.conflicts.len());
                 let id = self.nodes.len() as u32;
                 self.nodes.push(child);
-                push(&self, id, &mut heap, &mut cleanup, &mut open);
+                push(&self, id, &mut heap, &mut lists);
             }
         }
         Err(Unsolved::GaveUp(
             "every constraint set was refuted: the instance has no solution".into(),
         ))
+    }
+}
+
+/// EECBS's three lists over the open constraint-tree nodes (EECBS §4.2): CLEANUP by lower bound
+/// `LB`, OPEN by `f̂`, and FOCAL, the open nodes with `f̂ <= w · f̂_min`, by conflicts (then `f̂`,
+/// then id). FOCAL is kept up to date as nodes come and go and as `f̂_min` moves (the strip of
+/// OPEN between the old and the new bound joins or leaves it), so choosing a node costs
+/// `O(log n)`: rebuilding FOCAL from OPEN at every expansion cost `O(|OPEN|)`, which slowed the
+/// search to a crawl as OPEN grew (issue 27, item 4).
+///
+/// `f̂` is never negative, so the order of its bit patterns is its numeric order.
+struct Lists {
+    w: f64,
+    /// (LB, id).
+    cleanup: BTreeSet<(u64, u32)>,
+    /// (f̂ bits, id).
+    open: BTreeSet<(u64, u32)>,
+    /// (conflicts, f̂ bits, id) of the open nodes with `f̂ <= bound`.
+    focal: BTreeSet<(usize, u64, u32)>,
+    /// Bits of `w · f̂_min + 1e-9` (the tolerance of the float product), `None` while OPEN is
+    /// empty.
+    bound: Option<u64>,
+}
+
+impl Lists {
+    fn new(w: f64) -> Self {
+        Lists {
+            w,
+            cleanup: BTreeSet::new(),
+            open: BTreeSet::new(),
+            focal: BTreeSet::new(),
+            bound: None,
+        }
+    }
+
+    fn focal_key(nodes: &[Node], id: u32) -> (usize, u64, u32) {
+        let n = &nodes[id as usize];
+        (n.conflicts.len(), n.f_hat().to_bits(), id)
+    }
+
+    fn insert(&mut self, nodes: &[Node], id: u32) {
+        let n = &nodes[id as usize];
+        let f = n.f_hat().to_bits();
+        self.cleanup.insert((n.lb, id));
+        self.open.insert((f, id));
+        if self.bound.is_some_and(|b| f <= b) {
+            self.focal.insert(Self::focal_key(nodes, id));
+        }
+        self.rebound(nodes);
+    }
+
+    fn remove(&mut self, nodes: &[Node], id: u32) {
+        let n = &nodes[id as usize];
+        self.cleanup.remove(&(n.lb, id));
+        self.open.remove(&(n.f_hat().to_bits(), id));
+        self.focal.remove(&Self::focal_key(nodes, id));
+        self.rebound(nodes);
+    }
+
+    /// Moves FOCAL's bound to `w · f̂_min` of the current OPEN.
+    fn rebound(&mut self, nodes: &[Node]) {
+        use std::ops::Bound::{Excluded, Included, Unbounded};
+        let new = self
+            .open
+            .first()
+            .map(|&(f, _)| (f64::from_bits(f) * self.w + 1e-9).to_bits());
+        match (self.bound, new) {
+            (old, Some(new)) if old.is_none_or(|old| new > old) => {
+                let from = old.map_or(Unbounded, |old| Excluded((old, u32::MAX)));
+                for &(_, id) in self.open.range((from, Included((new, u32::MAX)))) {
+                    self.focal.insert(Self::focal_key(nodes, id));
+                }
+            }
+            (Some(old), Some(new)) if new < old => {
+                let strip = (Excluded((new, u32::MAX)), Included((old, u32::MAX)));
+                for &(_, id) in self.open.range(strip) {
+                    self.focal.remove(&Self::focal_key(nodes, id));
+                }
+            }
+            (_, None) => debug_assert!(self.focal.is_empty()),
+            _ => {}
+        }
+        self.bound = new;
+    }
+
+    /// The least LB of the open nodes.
+    fn lb_min(&self) -> Option<u64> {
+        self.cleanup.first().map(|&(lb, _)| lb)
+    }
+
+    /// EECBS's choice: the first of FOCAL if its cost is within `w · LB_min`, else the first of
+    /// OPEN if within, else the first of CLEANUP; `None` when no node is open.
+    fn select(&self, nodes: &[Node]) -> Option<u32> {
+        let &(lb_min, best_lb) = self.cleanup.first()?;
+        let &(_, best_f) = self.open.first().expect("same nodes as CLEANUP");
+        let &(_, _, best_d) = self.focal.first().expect("the first of OPEN is in FOCAL");
+        let within = |id: u32| nodes[id as usize].cost as f64 <= self.w * lb_min as f64 + 1e-9;
+        Some(if within(best_d) {
+            best_d
+        } else if within(best_f) {
+            best_f
+        } else {
+            best_lb
+        })
     }
 }
 
