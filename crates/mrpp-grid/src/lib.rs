@@ -1,22 +1,23 @@
 //! mrpp-grid: the grid MAPF family. MovingAI `.map`/`.scen` and the H* paper's map and robot
-//! files become a [`MapfProblem`] with `stay` rules; the planners (H*, CA*/HCA*/WHCA*, Enol2023,
-//! NSGA-III, PIBT, LaCAM/LaCAM*, CBS, EECBS) work on any graph with cell coordinates. [`PLANNERS`] is the family's registry;
-//! [`io`] holds the LaCAM text result, the SVG picture and the grid plan file.
+//! files, and League of Robot Runners problems read as one-shot instances ([`lorr`]), become a
+//! [`MapfProblem`] with `stay` rules. The H* paper's planners and its baselines (H*, CA*/HCA*/WHCA*,
+//! Enol2023, NSGA-III) live here; the graph-MAPF planners (PIBT, LaCAM/LaCAM*, LNS, CBS, EECBS)
+//! and the grid map reader live in `mrpp-mapf`, shared with the other graph families, and are
+//! re-exported under their old paths. [`PLANNERS`] is the family's registry; [`io`] holds the
+//! LaCAM text result, the SVG picture and the grid plan file.
 
-pub mod cbs;
 pub mod coevolution;
 pub mod cooperative;
 pub mod corridors;
 pub mod hstar;
-pub mod instance_rules;
 pub mod io;
-pub mod lacam;
-pub mod lns;
 pub mod lorr;
-pub mod map;
 pub mod nsga3;
-pub mod pibt;
 pub mod scen;
+
+/// The graph-MAPF planners and grid maps shared with the other graph families (crate
+/// `mrpp-mapf`), under the paths they had here.
+pub use mrpp_mapf::{cbs, instance_rules, lacam, lns, map, pibt};
 
 use std::path::Path;
 

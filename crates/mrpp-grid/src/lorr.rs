@@ -1,8 +1,8 @@
 //! League of Robot Runners (LoRR) problems as one-shot MAPF instances.
 //!
-//! A LoRR problem is a JSON file naming a map, an agent file and a task file (paths relative to
-//! the JSON), as in the competition's start kit (GitHub `MAPF-Competition/Start-Kit`, file
-//! `Input_Output_Format.md`; MIT licence). Both layouts are read:
+//! A LoRR problem is a JSON file naming a map, an agent file and a task file, as in the
+//! competition's start kit (GitHub `MAPF-Competition/Start-Kit`; MIT licence); the files are read
+//! by `mrpp_mapf::lorr_files`, shared with the lifelong family. Both layouts are read:
 //!
 //! - **2023** (start kit 1.1.2, the `r2024` branch despite its name): `mapFile`, `agentFile`,
 //!   `teamSize`, `taskFile`, `numTasksReveal`, `taskAssignmentStrategy`; task lines hold one
@@ -11,9 +11,6 @@
 //!   `agentCounter`, `agentSize`, `delayConfig`; the agent and task files may hold `#` comment
 //!   lines and a task line is a comma-separated sequence of errand locations (`203,453`),
 //!   visited in order. `docs/lorr-semantics.md` has the kit's semantics in full.
-//!
-//! The map is a MovingAI map whose cells may also be `E` (emitter) and `S` (service), both
-//! traversable ([`crate::map`]). Locations are linearised: `loc = row * width + col`.
 //!
 //! **One-shot instance** (mrpp's choice; the start kit itself only runs lifelong problems): agent
 //! `i` (the first `teamSize` lines of the agent file) starts at its location and its goal is the
@@ -25,14 +22,15 @@
 
 use std::path::{Path, PathBuf};
 
-use serde_json::Value;
-
 use mrpp_core::error::{Error, Result, read_file};
 use mrpp_core::mapf::graph::VertexId;
 use mrpp_core::mapf::instance::Instance;
+use mrpp_mapf::lorr_files::{self, LorrFiles};
 
 use crate::instance_rules::{Spot, checked_instance};
 use crate::map::GridMap;
+
+pub use mrpp_mapf::lorr_files::referenced_files;
 
 /// A League of Robot Runners problem, read from its JSON and the three files it names.
 #[derive(Debug, Clone)]
@@ -73,136 +71,60 @@ pub fn parse_with(
     path: &Path,
     read: &dyn Fn(&Path) -> Result<String>,
 ) -> Result<LorrProblem> {
-    let json: Value = serde_json::from_str(text.trim_start_matches('\u{feff}')).map_err(|e| {
-        Error::parse(
-            path,
-            e.line(),
-            format!("not a League of Robot Runners problem JSON: {e}"),
-        )
-    })?;
-    let [map_path, agent_path, task_path] = named_files(&json, path)?;
-    let team = json
-        .get("teamSize")
-        .and_then(Value::as_u64)
-        .filter(|&n| n > 0)
-        .ok_or_else(|| Error::invalid(path, "`teamSize` must be a positive integer"))?
-        as usize;
-    let version = json
-        .get("version")
-        .and_then(Value::as_str)
-        .unwrap_or("2023")
-        .to_string();
+    one_shot(lorr_files::parse_with(text, path, read)?)
+}
 
-    let map = GridMap::parse(&read(&map_path)?, &map_path)?.0;
-    let vertex = |loc: i64, file: &Path, line: usize| -> Result<VertexId> {
-        let w = i64::from(map.width());
-        let cells = w * i64::from(map.height());
-        if !(0..cells).contains(&loc) {
-            return Err(Error::parse(
-                file,
-                line,
-                format!("location {loc} is off the map (0..{cells})"),
-            ));
-        }
-        let (x, y) = (loc % w, loc / w);
-        map.vertex_at(x, y).ok_or_else(|| {
-            Error::parse(
-                file,
-                line,
-                format!("location {loc} is cell ({x},{y}), a wall"),
-            )
-        })
-    };
-
-    let agent_lines = counted_lines(&read(&agent_path)?, &agent_path)?;
-    if agent_lines.len() < team {
-        return Err(Error::invalid(
-            &agent_path,
-            format!(
-                "`teamSize` is {team} but the file has only {} agents",
-                agent_lines.len()
-            ),
-        ));
-    }
-    // Each start's location and the line it was read from.
-    let mut starts = Vec::with_capacity(team);
-    for (no, line) in &agent_lines[..team] {
-        let loc = int(line, &agent_path, *no)?;
-        vertex(loc, &agent_path, *no)?;
-        starts.push((loc, *no));
-    }
-    let mut tasks = Vec::new();
-    let mut task_lines = Vec::new();
-    for (no, line) in counted_lines(&read(&task_path)?, &task_path)? {
-        let errands = line
-            .split(',')
-            .map(|f| vertex(int(f, &task_path, no)?, &task_path, no))
-            .collect::<Result<Vec<_>>>()?;
-        tasks.push(errands);
-        task_lines.push(no);
-    }
-
-    let (_, assigned, skipped_tasks) = first_tasks(&tasks, team).ok_or_else(|| {
+/// The one-shot instance of a LoRR problem's files (module doc).
+///
+/// # Errors
+/// Fewer tasks with distinct first errands than robots; a start or goal clash (file and line).
+pub fn one_shot(files: LorrFiles) -> Result<LorrProblem> {
+    let team = files.team_size();
+    let (_, assigned, skipped_tasks) = first_tasks(&files.tasks, team).ok_or_else(|| {
         Error::invalid(
-            &task_path,
+            &files.task_path,
             format!("{team} agents need {team} tasks with distinct first errands"),
         )
     })?;
     // The grid instance rules, checked where every grid reader checks them.
-    let w = i64::from(map.width());
-    let agents: Vec<(Spot<'_>, Spot<'_>)> = starts
-        .iter()
-        .zip(&assigned)
-        .map(|(&(loc, line), &task)| {
-            let (gx, gy) = map.cell(tasks[task][0]);
+    let map = &files.map;
+    fn spot<'a>(map: &GridMap, v: VertexId, file: &'a Path, line: usize) -> Spot<'a> {
+        let (x, y) = map.cell(v);
+        Spot {
+            cell: (i64::from(x), i64::from(y)),
+            file,
+            line,
+        }
+    }
+    let agents: Vec<(Spot<'_>, Spot<'_>)> = (0..team)
+        .map(|i| {
+            let task = assigned[i];
             (
-                Spot {
-                    cell: (loc % w, loc / w),
-                    file: agent_path.as_path(),
-                    line,
-                },
-                Spot {
-                    cell: (i64::from(gx), i64::from(gy)),
-                    file: task_path.as_path(),
-                    line: task_lines[task],
-                },
+                spot(
+                    map,
+                    files.starts[i],
+                    &files.agent_path,
+                    files.start_lines[i],
+                ),
+                spot(
+                    map,
+                    files.tasks[task][0],
+                    &files.task_path,
+                    files.task_lines[task],
+                ),
             )
         })
         .collect();
-    let instance = checked_instance(&map, &agents)?;
+    let instance = checked_instance(map, &agents)?;
     Ok(LorrProblem {
-        map_path,
-        map,
+        map_path: files.map_path,
+        map: files.map,
         instance,
-        tasks,
+        tasks: files.tasks,
         assigned,
         skipped_tasks,
-        version,
+        version: files.version,
     })
-}
-
-/// The map, agent and task files a LoRR problem JSON at `path` names, resolved against its
-/// folder as [`load`] resolves them (so that outputs can refuse to overwrite them).
-///
-/// # Errors
-/// The JSON cannot be read or parsed, or names no such file.
-pub fn referenced_files(path: &Path) -> Result<Vec<PathBuf>> {
-    let text = read_file(path)?;
-    let json: Value = serde_json::from_str(&text)
-        .map_err(|e| Error::parse(path, e.line(), format!("not JSON: {e}")))?;
-    Ok(named_files(&json, path)?.to_vec())
-}
-
-/// `[mapFile, agentFile, taskFile]` of a problem JSON, each joined to the JSON's folder.
-fn named_files(json: &Value, path: &Path) -> Result<[PathBuf; 3]> {
-    let dir = path.parent().unwrap_or(Path::new("."));
-    let file = |key: &str| -> Result<PathBuf> {
-        json.get(key)
-            .and_then(Value::as_str)
-            .map(|f| dir.join(f))
-            .ok_or_else(|| Error::invalid(path, format!("no `{key}` (a file name) in the problem")))
-    };
-    Ok([file("mapFile")?, file("agentFile")?, file("taskFile")?])
 }
 
 /// Hands tasks out in file order (module doc): `(goals, task index per agent, tasks skipped)`,
@@ -226,53 +148,6 @@ fn first_tasks(tasks: &[Vec<VertexId>], team: usize) -> Option<(Vec<VertexId>, V
         assigned.push(pick);
     }
     Some((goals, assigned, skipped))
-}
-
-fn int(field: &str, path: &Path, line: usize) -> Result<i64> {
-    field.trim().parse::<i64>().map_err(|_| {
-        Error::parse(
-            path,
-            line,
-            format!("`{}` is not a location (an integer)", field.trim()),
-        )
-    })
-}
-
-/// The entries of a LoRR agent or task file: `#` comment lines skipped, then a count line, then
-/// exactly that many non-empty lines, each returned with its 1-based line number.
-fn counted_lines(text: &str, path: &Path) -> Result<Vec<(usize, String)>> {
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .map(|(i, l)| {
-            (
-                i + 1,
-                l.trim_matches(|c: char| c.is_whitespace() || c == '\u{feff}'),
-            )
-        })
-        .filter(|(_, l)| !l.is_empty() && !l.starts_with('#'));
-    let (no, count) = lines
-        .next()
-        .ok_or_else(|| Error::invalid(path, "empty file: expected a count line"))?;
-    let count: usize = count.parse().map_err(|_| {
-        Error::parse(
-            path,
-            no,
-            format!("expected the number of entries, found `{count}`"),
-        )
-    })?;
-    let entries: Vec<(usize, String)> = lines.map(|(n, l)| (n, l.to_string())).collect();
-    if entries.len() != count {
-        return Err(Error::parse(
-            path,
-            no,
-            format!(
-                "count line says {count} but {} entries follow",
-                entries.len()
-            ),
-        ));
-    }
-    Ok(entries)
 }
 
 #[cfg(test)]

@@ -6,8 +6,8 @@
 use std::path::Path;
 
 use mrpp_core::error::{Error, Result, read_file};
-use mrpp_core::mapf::graph::VertexId;
 use mrpp_core::mapf::instance::Instance;
+pub use mrpp_mapf::map::random_instance;
 
 use crate::instance_rules::{Spot, checked_instance};
 use crate::map::GridMap;
@@ -156,54 +156,6 @@ fn parse_robots(text: &str, path: &Path) -> Result<Vec<Entry>> {
     Ok(out)
 }
 
-/// A random instance of `agents` agents on `map` (what `mrpp gen scen` writes): starts distinct,
-/// goals distinct, all drawn uniformly (seeded) from the largest connected component, so every
-/// agent can reach its goal.
-///
-/// # Errors
-/// A message when the component has fewer than `agents` cells or `agents` is 0.
-pub fn random_instance(
-    map: &GridMap,
-    agents: usize,
-    seed: u64,
-) -> std::result::Result<Instance, String> {
-    use rand::SeedableRng;
-    use rand::seq::IndexedRandom;
-    let g = map.graph();
-    let mut component = vec![usize::MAX; g.num_vertices()];
-    let mut best: Vec<VertexId> = Vec::new();
-    for s in 0..g.num_vertices() {
-        if component[s] != usize::MAX {
-            continue;
-        }
-        component[s] = s;
-        let mut cells = vec![s as VertexId];
-        let mut k = 0;
-        while k < cells.len() {
-            for &w in g.neighbors(cells[k]) {
-                if component[w as usize] == usize::MAX {
-                    component[w as usize] = s;
-                    cells.push(w);
-                }
-            }
-            k += 1;
-        }
-        if cells.len() > best.len() {
-            best = cells;
-        }
-    }
-    if agents == 0 || agents > best.len() {
-        return Err(format!(
-            "cannot place {agents} agents: the largest connected area has {} free cells",
-            best.len()
-        ));
-    }
-    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
-    let starts: Vec<VertexId> = best.sample(&mut rng, agents).copied().collect();
-    let goals: Vec<VertexId> = best.sample(&mut rng, agents).copied().collect();
-    Instance::new(starts, goals)
-}
-
 /// A random MovingAI map (`type octile`; what `mrpp gen map` writes): `width` x `height` cells,
 /// each an obstacle (`@`) with probability `obstacles`, independently (seeded), else free (`.`),
 /// like MovingAI's `random-*` maps. Agents are then placed in its largest connected area by
@@ -270,6 +222,7 @@ pub fn scen_text(map: &GridMap, map_file: &str, inst: &Instance) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use mrpp_core::mapf::graph::VertexId;
 
     #[test]
     fn scen_distances_are_the_breadth_first_ones() {

@@ -136,9 +136,11 @@ fn pocket_swaps(len: usize, pocket: usize) -> (GridMap, Vec<(Instance, u64)>) {
 
 /// Issue 27, item 4.1: with 1 s each, EECBS(1.2) and EECBS(2) ran out of time on 16 of the 32
 /// runs on the 5-cell corridor with its pocket in the middle (a 6-cell map), 15 of 50 on the
-/// 6-cell one and 26 of 72 on the 7-cell one (CBS: 0.07 to 0.9 s); now none does.
+/// 6-cell one and 26 of 72 on the 7-cell one (CBS: 0.07 to 0.9 s); now none does (at most
+/// 0.15 s each in a release build). The limit here is 20 s, far above that, so that a loaded
+/// machine cannot fail the test while a search that never ends still does.
 #[test]
-fn eecbs_solves_corridor_swaps_with_a_side_pocket_within_a_second() {
+fn eecbs_solves_corridor_swaps_with_a_side_pocket() {
     let mut cases = 0;
     for (len, pocket) in [(5, 2), (6, 3), (7, 3)] {
         let (map, swaps) = pocket_swaps(len, pocket);
@@ -152,7 +154,7 @@ fn eecbs_solves_corridor_swaps_with_a_side_pocket_within_a_second() {
             for w in [1.2, 2.0] {
                 let what =
                     format!("EECBS({w}), corridor of {len} cells, pocket under {pocket}, {inst:?}");
-                match solve(&Cbs::eecbs(w), &problem, &deadline(1.0)) {
+                match solve(&Cbs::eecbs(w), &problem, &deadline(20.0)) {
                     Ok(s) => assert!(
                         s.metrics.sum_of_costs as f64 <= w * optimum as f64,
                         "{what}: sum of costs {} > {w} x {optimum}",

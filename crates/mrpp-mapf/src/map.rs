@@ -28,7 +28,7 @@ pub enum MapFormat {
     /// MovingAI: a `type`, `height`, `width` header (any order; `type` optional), `map`, then rows
     /// of MovingAI's terrain characters: `.`, `G` and `S` (swamp) are free; `@`, `O`, `T` (trees)
     /// and `W` (water, which cannot be entered from land) are walls. The League of Robot Runners'
-    /// `E` (emitter) is free too ([`crate::lorr`]).
+    /// `E` (emitter) is free too (the League of Robot Runners' maps).
     MovingAi,
     /// H* paper: rows of `#` (wall) and space (free); CRLF and a missing final newline tolerated.
     Ascii,
@@ -312,6 +312,54 @@ fn finish(map: GridMap, path: &Path) -> Result<GridMap> {
         return Err(Error::invalid(path, "map has no free cell"));
     }
     Ok(map)
+}
+
+/// A random instance of `agents` agents on `map` (what `mrpp gen scen` writes): starts distinct,
+/// goals distinct, all drawn uniformly (seeded) from the largest connected component, so every
+/// agent can reach its goal.
+///
+/// # Errors
+/// A message when the component has fewer than `agents` cells or `agents` is 0.
+pub fn random_instance(
+    map: &GridMap,
+    agents: usize,
+    seed: u64,
+) -> std::result::Result<mrpp_core::Instance, String> {
+    use rand::SeedableRng;
+    use rand::seq::IndexedRandom;
+    let g = map.graph();
+    let mut component = vec![usize::MAX; g.num_vertices()];
+    let mut best: Vec<VertexId> = Vec::new();
+    for s in 0..g.num_vertices() {
+        if component[s] != usize::MAX {
+            continue;
+        }
+        component[s] = s;
+        let mut cells = vec![s as VertexId];
+        let mut k = 0;
+        while k < cells.len() {
+            for &w in g.neighbors(cells[k]) {
+                if component[w as usize] == usize::MAX {
+                    component[w as usize] = s;
+                    cells.push(w);
+                }
+            }
+            k += 1;
+        }
+        if cells.len() > best.len() {
+            best = cells;
+        }
+    }
+    if agents == 0 || agents > best.len() {
+        return Err(format!(
+            "cannot place {agents} agents: the largest connected area has {} free cells",
+            best.len()
+        ));
+    }
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    let starts: Vec<VertexId> = best.sample(&mut rng, agents).copied().collect();
+    let goals: Vec<VertexId> = best.sample(&mut rng, agents).copied().collect();
+    mrpp_core::Instance::new(starts, goals)
 }
 
 #[cfg(test)]

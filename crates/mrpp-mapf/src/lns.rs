@@ -238,7 +238,7 @@ mod tests {
             "/../../data/movingai/random-32-32-20.map"
         )))
         .unwrap();
-        let inst = crate::scen::random_instance(&map, 120, 3).unwrap();
+        let inst = crate::map::random_instance(&map, 120, 3).unwrap();
         let g = map.graph();
         let p = MapfProblem::on(g, &inst, Rules::default());
         let plan = Lacam::default().plan(&p, &Ctx::default()).unwrap();

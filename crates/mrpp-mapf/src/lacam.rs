@@ -287,7 +287,7 @@ struct Search<'a> {
 /// [`Unsolved::GaveUp`] when an agent cannot reach its goal or every configuration was explored
 /// without reaching the goals (no solution exists); [`Unsolved::TimeLimit`] when the deadline
 /// passes before the first plan.
-pub(crate) fn search(
+pub fn search(
     lacam: &Lacam,
     graph: &Graph,
     starts: &[VertexId],

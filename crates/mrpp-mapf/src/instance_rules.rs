@@ -38,34 +38,53 @@ pub fn checked_instance(map: &GridMap, agents: &[(Spot<'_>, Spot<'_>)]) -> Resul
     let mut start_at: FxHashMap<VertexId, Spot<'_>> = FxHashMap::default();
     let mut goal_at: FxHashMap<VertexId, Spot<'_>> = FxHashMap::default();
     for (start, goal) in agents {
-        for (what, spot, list, seen) in [
-            ("start", start, &mut starts, &mut start_at),
-            ("goal", goal, &mut goals, &mut goal_at),
-        ] {
-            let (x, y) = spot.cell;
-            let v = map.vertex_at(x, y).ok_or_else(|| {
-                Error::parse(
-                    spot.file,
-                    spot.line,
-                    format!("{what} {}", map.cell_problem(x, y).unwrap_or_default()),
-                )
-            })?;
-            if let Some(prev) = seen.insert(v, *spot) {
-                let where_ = if prev.file == spot.file {
-                    format!("line {}", prev.line)
-                } else {
-                    format!("{} line {}", prev.file.display(), prev.line)
-                };
-                return Err(Error::parse(
-                    spot.file,
-                    spot.line,
-                    format!("{what} ({x},{y}) is also the {what} on {where_}"),
-                ));
-            }
-            list.push(v);
-        }
+        starts.push(place(map, "start", start, &mut start_at)?);
+        goals.push(place(map, "goal", goal, &mut goal_at)?);
     }
     Ok(Instance { starts, goals })
+}
+
+/// The start vertices of `starts` (robot `i` the `i`-th) on `map`, for problems whose goals come
+/// later (the League of Robot Runners' lifelong problems, whose errands may repeat).
+///
+/// # Errors
+/// As [`checked_instance`] for starts: off the map, on a wall, or an earlier robot's start.
+pub fn checked_starts(map: &GridMap, starts: &[Spot<'_>]) -> Result<Vec<VertexId>> {
+    let mut start_at: FxHashMap<VertexId, Spot<'_>> = FxHashMap::default();
+    starts
+        .iter()
+        .map(|spot| place(map, "start", spot, &mut start_at))
+        .collect()
+}
+
+/// The vertex of `spot` (a `what`: start or goal), which no earlier spot in `seen` holds.
+fn place<'a>(
+    map: &GridMap,
+    what: &str,
+    spot: &Spot<'a>,
+    seen: &mut FxHashMap<VertexId, Spot<'a>>,
+) -> Result<VertexId> {
+    let (x, y) = spot.cell;
+    let v = map.vertex_at(x, y).ok_or_else(|| {
+        Error::parse(
+            spot.file,
+            spot.line,
+            format!("{what} {}", map.cell_problem(x, y).unwrap_or_default()),
+        )
+    })?;
+    if let Some(prev) = seen.insert(v, *spot) {
+        let where_ = if prev.file == spot.file {
+            format!("line {}", prev.line)
+        } else {
+            format!("{} line {}", prev.file.display(), prev.line)
+        };
+        return Err(Error::parse(
+            spot.file,
+            spot.line,
+            format!("{what} ({x},{y}) is also the {what} on {where_}"),
+        ));
+    }
+    Ok(v)
 }
 
 #[cfg(test)]
