@@ -86,8 +86,10 @@ pub fn solve(
     time_limit: f64,
 ) -> Result<Solution, String> {
     let family = crate::family::family_of_planner(planner).map_err(|f| f.0)?;
+    let mut inputs = inputs.clone();
+    inputs.lifelong |= family.name() == mrpp_lifelong::FAMILY;
     let req = SolveRequest {
-        inputs: inputs.clone(),
+        inputs,
         planner: planner.to_string(),
         params: params.to_vec(),
         seed,
@@ -111,6 +113,7 @@ pub fn solve(
 /// The first violation (agents, cell or node, time step), a claim the paths contradict, or an
 /// unreadable file.
 pub fn validate(inputs: &Inputs, plan: &Path) -> Result<Validated, String> {
+    let inputs = &crate::verbs::with_plan_kind(inputs, plan);
     let c = family_of_inputs(inputs)
         .and_then(|f| f.check(inputs, plan))
         .map_err(|f| f.0)?;

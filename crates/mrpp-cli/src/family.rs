@@ -25,6 +25,7 @@ pub(crate) static FAMILIES: &[&dyn Family] = &[
     &crate::tree_family::TREES,
     &crate::formation_family::FORMATION,
     &crate::continuous_family::CONTINUOUS,
+    &crate::lifelong_family::LIFELONG,
     #[cfg(test)]
     &crate::toy_family::TOY,
     #[cfg(test)]
@@ -49,6 +50,21 @@ pub struct Inputs {
     /// layout), read with its map, agents and tasks as a one-shot instance (goal = first task).
     #[arg(long, conflicts_with_all = ["map", "scen"])]
     pub lorr: Option<PathBuf>,
+    /// Run the `--lorr` problem as a lifelong problem (robots get a new task when they finish
+    /// one); implied by a lifelong planner, and by `validate` given LoRR output JSON.
+    #[arg(long, requires = "lorr")]
+    pub lifelong: bool,
+    /// Lifelong: the horizon in steps (default 1000).
+    #[arg(long, value_parser = crate::output::parse_count)]
+    pub steps: Option<usize>,
+    /// Lifelong: planning time per step in seconds (default 1, the League's); a planner that
+    /// runs over loses one step per full budget, as in the League's start kit.
+    #[arg(long, allow_negative_numbers = true)]
+    pub step_time_limit: Option<f64>,
+    /// Lifelong: the action model, MAPF_T (orientation: forward, turn, wait; the League's) or
+    /// MAPF (4-neighbour moves).
+    #[arg(long)]
+    pub action_model: Option<String>,
     /// Tree instance JSON: {"nodes": N, "edges": [[u, v], ...], "robots": [{"start", "goal"}]}.
     #[arg(long)]
     pub instance: Option<PathBuf>,
@@ -128,8 +144,12 @@ impl Inputs {
                 flags(&[
                     ("--map", self.map.is_some()),
                     ("--scen", self.scen.is_some()),
-                    ("--lorr", self.lorr.is_some()),
+                    ("--lorr", self.lorr.is_some() && !self.lifelong),
                 ]),
+            ),
+            (
+                "lifelong",
+                flags(&[("--lorr --lifelong", self.lorr.is_some() && self.lifelong)]),
             ),
             ("trees", flags(&[("--instance", self.instance.is_some())])),
             (
@@ -196,6 +216,7 @@ pub(crate) enum Format {
 }
 
 /// One `solve` request, whatever the family.
+#[derive(Clone)]
 pub(crate) struct SolveRequest {
     pub(crate) inputs: Inputs,
     pub(crate) planner: String,
@@ -372,6 +393,7 @@ fn needs(family: &str) -> &'static str {
         "trees" => "--instance I.json",
         "formation" => "--formation F.json",
         "continuous" => "--world W.json",
+        "lifelong" => "--lorr P.json",
         _ => "the family's files",
     }
 }
@@ -385,7 +407,7 @@ pub(crate) fn family_of_inputs(inputs: &Inputs) -> Result<&'static dyn Family, F
         .find(|f| f.claims(inputs))
         .ok_or_else(|| {
             Fail(
-                "name the problem's files: --map (and --scen) for grids, --instance for trees, --formation for formations, --world for continuous worlds"
+                "name the problem's files: --map (and --scen) for grids, --lorr for League of Robot Runners problems (with --lifelong to run them lifelong), --instance for trees, --formation for formations, --world for continuous worlds"
                     .into(),
             )
         })

@@ -25,7 +25,7 @@ pub(crate) const fn def() -> Def<MapfProblem> {
     Def {
         name: mrpp_grid::FAMILY,
         planners: mrpp_grid::PLANNERS,
-        claims: |i| (i.map.is_some() || i.lorr.is_some()) && i.instance.is_none(),
+        claims: |i| (i.map.is_some() || i.lorr.is_some()) && !i.lifelong && i.instance.is_none(),
         load,
         read_plan,
         info: Some(info),

@@ -21,6 +21,7 @@ mod family;
 mod formation_family;
 mod gen_cmd;
 mod grid_family;
+mod lifelong_family;
 mod output;
 mod picture;
 mod progress;

@@ -9,11 +9,32 @@ use crate::output::{Fail, say, write_atomic};
 /// `mrpp solve`: plans, exit 0 solved (a valid plan), 3 not solved, 1 bad input or an invalid
 /// plan (a bug).
 pub(crate) fn solve(req: &SolveRequest) -> Result<u8, Fail> {
-    family_of_planner(&req.planner)?.solve(req)
+    let family = family_of_planner(&req.planner)?;
+    if family.name() == mrpp_lifelong::FAMILY && req.inputs.lorr.is_some() && !req.inputs.lifelong {
+        // A lifelong planner on a `--lorr` problem runs it lifelong.
+        let mut inputs = req.inputs.clone();
+        inputs.lifelong = true;
+        return family.solve(&SolveRequest {
+            inputs,
+            ..req.clone()
+        });
+    }
+    family.solve(req)
+}
+
+/// `inputs`, made lifelong when they name a `--lorr` problem and `plan` is LoRR output JSON (a
+/// lifelong run's file, mrpp's or the League's start kit's).
+pub(crate) fn with_plan_kind(inputs: &Inputs, plan: &Path) -> Inputs {
+    let mut inputs = inputs.clone();
+    if inputs.lorr.is_some() && !inputs.lifelong && crate::lifelong_family::is_lorr_output(plan) {
+        inputs.lifelong = true;
+    }
+    inputs
 }
 
 /// `mrpp validate`: exit 0 when the plan is valid, 1 naming the first violation.
 pub(crate) fn validate(inputs: &Inputs, plan: &Path) -> Result<u8, Fail> {
+    let inputs = &with_plan_kind(inputs, plan);
     family_of_inputs(inputs)?.validate(inputs, plan)
 }
 
@@ -43,6 +64,7 @@ pub(crate) fn render(inputs: &Inputs, plan: &Path, out: &Path, gif: bool) -> Res
         )));
     }
     inputs.guard(&[plan], &[out])?;
+    let inputs = &with_plan_kind(inputs, plan);
     let family = family_of_inputs(inputs)?;
     warn_if_invalid(family, inputs, plan);
     match ext.as_str() {

@@ -48,6 +48,7 @@ pub(crate) fn view(
     if let Some(out) = &out {
         inputs.guard(&[plan], &[out])?;
     }
+    let inputs = &crate::verbs::with_plan_kind(inputs, plan);
     let family = family_of_inputs(inputs)?;
     crate::verbs::warn_if_invalid(family, inputs, plan);
     let scene = family.scene(inputs, plan)?;

@@ -67,9 +67,11 @@ impl LorrFiles {
         self.starts.len()
     }
 
-    /// Tasks the kit keeps open at once: `(numTasksReveal x teamSize)` truncated (at least 1).
+    /// Tasks the kit keeps open at once: `(numTasksReveal x teamSize)` truncated, computed in
+    /// single precision as the kit computes it (a C++ `float`: 0.29 x 100 is 29 there, 28 in
+    /// double precision).
     pub fn reveal_pool(&self) -> usize {
-        (self.num_tasks_reveal * self.team_size() as f64) as usize
+        (self.num_tasks_reveal as f32 * self.team_size() as f32) as usize
     }
 }
 
@@ -109,7 +111,7 @@ pub fn parse_with(
         None => 1.0,
         Some(v) => v
             .as_f64()
-            .filter(|r| r.is_finite() && *r * team as f64 >= 1.0)
+            .filter(|r| r.is_finite() && (*r as f32 * team as f32) as usize >= 1)
             .ok_or_else(|| {
                 Error::invalid(
                     path,

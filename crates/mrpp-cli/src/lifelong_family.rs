@@ -1,0 +1,234 @@
+//! The lifelong family on the command line: a League of Robot Runners problem `--lorr P.json`
+//! run step by step (`--lifelong`, implied by a lifelong planner), with `--steps`,
+//! `--step-time-limit` and `--action-model`. The plan file is LoRR's own output JSON (2024
+//! layout, [`mrpp_lifelong::lorr_output`]), which the kit's viewer PlanViz reads, with one more
+//! key, `mrpp`, holding mrpp's run record (format `mrpp-lifelong/1`, planner, parameters, seed,
+//! status, metrics, runtime, horizon, planning time per step). `validate` reads mrpp's files and
+//! the kit's own output alike.
+
+use std::path::Path;
+use std::time::Duration;
+
+use serde_json::{Map, Value, json};
+
+use mrpp_core::Problem;
+use mrpp_core::mapf::plan_file::RunInfo;
+use mrpp_lifelong::lorr_output::{from_json, model_of, to_json};
+use mrpp_lifelong::problem::{DEFAULT_STEP_TIME, DEFAULT_STEPS};
+use mrpp_lifelong::{ActionModel, LifelongProblem};
+use mrpp_mapf::lorr_files;
+
+use crate::family::{Def, Inputs, Loaded, Outcome, ReadPlan};
+use crate::output::{Fail, file_name, out};
+
+/// The format tag of the `mrpp` record in a lifelong plan file.
+pub(crate) const FORMAT: &str = "mrpp-lifelong/1";
+
+/// The lifelong family.
+pub(crate) static LIFELONG: Def<LifelongProblem> = Def {
+    name: mrpp_lifelong::FAMILY,
+    planners: mrpp_lifelong::PLANNERS,
+    claims: |i| i.lorr.is_some() && i.lifelong && i.instance.is_none(),
+    load,
+    read_plan,
+    info: Some(info),
+    render: None,
+    scene: None,
+    lacam: false,
+};
+
+/// Whether the file at `plan` is LoRR output JSON (it has an `actionModel`), so that `validate
+/// --lorr P --plan F` judges it as a lifelong run.
+pub(crate) fn is_lorr_output(plan: &Path) -> bool {
+    std::fs::read_to_string(plan)
+        .ok()
+        .and_then(|t| serde_json::from_str::<Value>(&t).ok())
+        .is_some_and(|v| v.get("actionModel").is_some())
+}
+
+fn step_time(inputs: &Inputs) -> Result<Duration, Fail> {
+    match inputs.step_time_limit {
+        None => Ok(DEFAULT_STEP_TIME),
+        Some(s) if s.is_finite() && s > 0.0 && s <= 3600.0 => Ok(Duration::from_secs_f64(s)),
+        Some(s) => Err(Fail(format!(
+            "--step-time-limit must be a number of seconds in (0, 3600], got {s}"
+        ))),
+    }
+}
+
+fn steps(inputs: &Inputs) -> Result<u32, Fail> {
+    match inputs.steps {
+        None => Ok(DEFAULT_STEPS),
+        Some(n) if (1..=10_000_000).contains(&n) => Ok(n as u32),
+        Some(n) => Err(Fail(format!("--steps must be 1..=10000000, got {n}"))),
+    }
+}
+
+fn model(inputs: &Inputs) -> Result<ActionModel, Fail> {
+    match &inputs.action_model {
+        None => Ok(ActionModel::MapfT),
+        Some(m) => ActionModel::parse(m).ok_or_else(|| {
+            Fail(format!(
+                "--action-model must be MAPF_T (orientation, the League's) or MAPF, got `{m}`"
+            ))
+        }),
+    }
+}
+
+fn lorr_path(inputs: &Inputs) -> Result<&Path, Fail> {
+    inputs
+        .lorr
+        .as_deref()
+        .ok_or_else(|| Fail("lifelong problems need --lorr P.json".into()))
+}
+
+fn load(inputs: &Inputs) -> Result<Loaded<LifelongProblem>, Fail> {
+    let path = lorr_path(inputs)?;
+    if inputs.agents.is_some() {
+        return Err(Fail(
+            "--agents does not apply to lifelong runs: the team is the problem's teamSize".into(),
+        ));
+    }
+    let problem = LifelongProblem::load(path, model(inputs)?, steps(inputs)?, step_time(inputs)?)?;
+    let f = problem.files();
+    let summary = format!(
+        "map {} | robots {} | {} tasks in the file, {} open at a time | {} | {} steps, {} s per step",
+        file_name(&f.map_path),
+        f.team_size(),
+        f.tasks.len(),
+        f.reveal_pool(),
+        problem.model().name(),
+        problem.steps(),
+        problem.step_time().as_secs_f64()
+    );
+    let problem_file = file_name(path);
+    Ok(Loaded {
+        summary,
+        problem,
+        write: Box::new(move |problem, info, outcome, notes, _format| {
+            write_plan(&problem_file, problem, info, outcome, notes)
+        }),
+    })
+}
+
+fn write_plan(
+    problem_file: &str,
+    problem: &LifelongProblem,
+    info: RunInfo,
+    outcome: &Outcome<LifelongProblem>,
+    notes: Map<String, Value>,
+) -> Result<String, Fail> {
+    let (mut json, status, metrics) = match outcome {
+        Ok(s) => (
+            to_json(problem, &s.plan).map_err(Fail)?,
+            "solved".to_string(),
+            serde_json::to_value(s.metrics).unwrap_or(Value::Null),
+        ),
+        Err(why) => (
+            json!({
+                "actionModel": problem.model().name(),
+                "version": mrpp_lifelong::lorr_output::VERSION,
+                "teamSize": problem.num_agents(),
+                "numTaskFinished": 0,
+            }),
+            why.to_string(),
+            json!({}),
+        ),
+    };
+    json["mrpp"] = json!({
+        "format": FORMAT,
+        "family": mrpp_lifelong::FAMILY,
+        "problem": problem_file,
+        "planner": info.planner,
+        "params": info.params,
+        "seed": info.seed,
+        "status": status,
+        "steps": problem.steps(),
+        "step_time_limit_s": problem.step_time().as_secs_f64(),
+        "metrics": metrics,
+        "runtime_ms": info.runtime_ms,
+        "notes": notes,
+    });
+    serde_json::to_string(&json).map_err(|e| Fail(e.to_string()))
+}
+
+/// Reads mrpp's lifelong plan file or the kit's output JSON against the `--lorr` problem.
+fn read_plan(inputs: &Inputs, plan_path: &Path) -> Result<ReadPlan<LifelongProblem>, Fail> {
+    let path = lorr_path(inputs)?;
+    let text = mrpp_core::error::read_file(plan_path)?;
+    let json: Value = serde_json::from_str(&text).map_err(|e| {
+        Fail(format!(
+            "{}:{}: not a LoRR output JSON: {e}",
+            plan_path.display(),
+            e.line()
+        ))
+    })?;
+    let model = model_of(&json, plan_path)?;
+    if let Some(asked) = &inputs.action_model
+        && ActionModel::parse(asked) != Some(model)
+    {
+        return Err(Fail(format!(
+            "{}: the run's actionModel is {}, --action-model says {asked}",
+            plan_path.display(),
+            model.name()
+        )));
+    }
+    let files = lorr_files::load(path)?;
+    // The horizon: --steps, else the run's own length (a run may stop early).
+    let run_steps = json
+        .get("actualPaths")
+        .and_then(|p| p.get(0))
+        .and_then(Value::as_str)
+        .map_or(0, |s| s.split(',').filter(|l| !l.is_empty()).count());
+    let horizon = match inputs.steps {
+        Some(_) => steps(inputs)?,
+        None => (run_steps as u32).max(1),
+    };
+    let problem = LifelongProblem::new(files, model, horizon, step_time(inputs)?);
+    let (plan, claims) = from_json(&problem, &text, plan_path)?;
+    let mut claimed = Map::new();
+    claimed.insert("tasks_finished".into(), json!(claims.tasks_finished));
+    let about = match json.get("mrpp") {
+        Some(m) => format!(
+            "planner {} | seed {} | {}",
+            m.get("planner").and_then(Value::as_str).unwrap_or("?"),
+            m.get("seed").and_then(Value::as_u64).unwrap_or(0),
+            model.name()
+        ),
+        None => format!(
+            "LoRR output ({}) | {}",
+            json.get("version")
+                .and_then(Value::as_str)
+                .unwrap_or("no version"),
+            model.name()
+        ),
+    };
+    Ok(ReadPlan {
+        problem,
+        plan,
+        claims: claimed,
+        about,
+    })
+}
+
+fn info(inputs: &Inputs) -> Result<u8, Fail> {
+    let path = lorr_path(inputs)?;
+    let f = lorr_files::load(path)?;
+    let errands: usize = f.tasks.iter().map(Vec::len).sum();
+    out!(
+        "lifelong problem {} | map {} {}x{}, {} free cells | robots {} | tasks {} ({} errands, {:.2} per task), numTasksReveal {} ({} open at a time) | version {}",
+        path.display(),
+        file_name(&f.map_path),
+        f.map.width(),
+        f.map.height(),
+        f.map.graph().num_vertices(),
+        f.team_size(),
+        f.tasks.len(),
+        errands,
+        errands as f64 / f.tasks.len() as f64,
+        f.num_tasks_reveal,
+        f.reveal_pool(),
+        f.version
+    );
+    Ok(0)
+}

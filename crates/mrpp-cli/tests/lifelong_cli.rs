@@ -1,0 +1,248 @@
+//! Issue 28 end to end: `mrpp solve --lorr P.json -P lifelong-pibt` runs a League of Robot
+//! Runners problem lifelong and writes LoRR's output JSON; `mrpp validate` and the independent
+//! checker (`tools/check/lifelong.py`) agree on it; malformed problems are refused naming file,
+//! line and rule, exit 1, nothing written.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn mrpp(args: &[&str]) -> (Option<i32>, String, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_mrpp"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .unwrap();
+    (
+        o.status.code(),
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("mrpp-lifelong-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    dir
+}
+
+const MAZE: &str = "data/robot-runners/lorr2026-maze/maze-example_40.json";
+const WAREHOUSE: &str = "data/robot-runners/lorr2023-warehouse_small/warehouse_small_10.json";
+
+/// The checker's verdict on a run, `(valid, tasks finished)`, or `None` without python3 (CI
+/// has it).
+fn checker(problem: &str, run: &Path) -> Option<(bool, u64)> {
+    let o = Command::new("python3")
+        .arg("tools/check/lifelong.py")
+        .args(["--json", problem])
+        .arg(run)
+        .current_dir(root())
+        .output()
+        .ok()?;
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap_or_else(|e| {
+        panic!(
+            "checker output: {e}: {}",
+            String::from_utf8_lossy(&o.stdout)
+        )
+    });
+    Some((v["valid"].as_bool()?, v["tasks_finished"].as_u64()?))
+}
+
+#[test]
+fn a_lifelong_run_is_written_validated_and_checked_independently() {
+    let dir = tmp("runs");
+    for problem in [MAZE, WAREHOUSE] {
+        for model in ["MAPF_T", "MAPF"] {
+            for scheduler in ["greedy", "hungarian"] {
+                let out = dir.join(format!("{model}-{scheduler}.json"));
+                let o = out.to_str().unwrap();
+                let what = format!("{problem} {model} {scheduler}");
+                let (code, stdout, err) = mrpp(&[
+                    "solve",
+                    "--lorr",
+                    problem,
+                    "-P",
+                    "lifelong-pibt",
+                    "-p",
+                    &format!("scheduler={scheduler}"),
+                    "--steps",
+                    "300",
+                    "--action-model",
+                    model,
+                    "-s",
+                    "1",
+                    "-o",
+                    o,
+                ]);
+                assert_eq!(code, Some(0), "{what}: {stdout}{err}");
+                let run: serde_json::Value =
+                    serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+                let finished = run["numTaskFinished"].as_u64().unwrap();
+                assert!(finished > 0, "{what}: no task finished");
+                assert_eq!(run["actionModel"], model);
+                assert_eq!(run["mrpp"]["metrics"]["tasks_finished"], finished);
+                let (code, stdout, err) = mrpp(&["validate", "--lorr", problem, "--plan", o]);
+                assert_eq!(code, Some(0), "{what}: {stdout}{err}");
+                assert!(
+                    stdout.contains(&format!("tasks_finished {finished}")),
+                    "{stdout}"
+                );
+                if let Some((valid, tasks)) = checker(problem, &out) {
+                    assert!(valid, "{what}: the checker refuses mrpp's run");
+                    assert_eq!(tasks, finished, "{what}");
+                }
+            }
+        }
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_tampered_run_is_refused_by_validate_and_the_checker() {
+    let dir = tmp("tampered");
+    let out = dir.join("run.json");
+    let o = out.to_str().unwrap();
+    let (code, _, err) = mrpp(&[
+        "solve",
+        "--lorr",
+        MAZE,
+        "-P",
+        "lifelong-pibt",
+        "--steps",
+        "100",
+        "-o",
+        o,
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    let mut run: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    let honest = run["numTaskFinished"].as_u64().unwrap();
+    // A claim of one more task.
+    run["numTaskFinished"] = (honest + 1).into();
+    let claims = dir.join("claims.json");
+    std::fs::write(&claims, run.to_string()).unwrap();
+    let (code, _, err) = mrpp(&[
+        "validate",
+        "--lorr",
+        MAZE,
+        "--plan",
+        claims.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(err.contains("tasks_finished"), "{err}");
+    if let Some((valid, _)) = checker(MAZE, &claims) {
+        assert!(!valid);
+    }
+    // Robot 1 drives forward at every step: off the map or into a wall, or into another robot.
+    run["numTaskFinished"] = honest.into();
+    let steps = run["actualPaths"][1].as_str().unwrap().split(',').count();
+    run["actualPaths"][1] = vec!["F"; steps].join(",").into();
+    let moves = dir.join("moves.json");
+    std::fs::write(&moves, run.to_string()).unwrap();
+    let (code, _, err) = mrpp(&[
+        "validate",
+        "--lorr",
+        MAZE,
+        "--plan",
+        moves.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("unallowed move") || err.contains("conflict"),
+        "{err}"
+    );
+    if let Some((valid, _)) = checker(MAZE, &moves) {
+        assert!(!valid);
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn malformed_lifelong_problems_name_file_line_and_rule() {
+    let dir = tmp("malformed");
+    std::fs::write(
+        dir.join("m.map"),
+        "type octile\nheight 3\nwidth 4\nmap\n....\n.@..\n....\n",
+    )
+    .unwrap();
+    let write = |agents: &str, tasks: &str, reveal: &str| {
+        std::fs::write(dir.join("a.agents"), agents).unwrap();
+        std::fs::write(dir.join("t.tasks"), tasks).unwrap();
+        std::fs::write(
+            dir.join("p.json"),
+            format!(
+                r#"{{"mapFile": "m.map", "agentFile": "a.agents", "taskFile": "t.tasks", "teamSize": 2, "numTasksReveal": {reveal}}}"#
+            ),
+        )
+        .unwrap();
+    };
+    let p = dir.join("p.json");
+    let out = dir.join("run.json");
+    let solve = || {
+        mrpp(&[
+            "solve",
+            "--lorr",
+            p.to_str().unwrap(),
+            "-P",
+            "lifelong-pibt",
+            "--steps",
+            "20",
+            "-o",
+            out.to_str().unwrap(),
+        ])
+    };
+    write("2\n0\n3\n", "2\n2,11\n8\n", "1");
+    let (code, _, err) = solve();
+    assert_eq!(code, Some(0), "the well-formed one runs: {err}");
+    std::fs::remove_file(&out).unwrap();
+    for (agents, tasks, reveal, says) in [
+        (
+            "2\n0\n3\n",
+            "2\n2,5\n8\n",
+            "1",
+            "t.tasks:2: location 5 is cell (1,1), a wall",
+        ),
+        (
+            "2\n5\n3\n",
+            "2\n2\n8\n",
+            "1",
+            "a.agents:2: location 5 is cell (1,1), a wall",
+        ),
+        (
+            "2\n3\n3\n",
+            "2\n2\n8\n",
+            "1",
+            "a.agents:3: start (3,0) is also the start on line 2",
+        ),
+        (
+            "2\n0\n3\n",
+            "2\n2,12\n8\n",
+            "1",
+            "t.tasks:2: location 12 is off the map (0..12)",
+        ),
+        (
+            "2\n0\n3\n",
+            "2\n2,x\n8\n",
+            "1",
+            "t.tasks:2: `x` is not a location",
+        ),
+        (
+            "2\n0\n3\n",
+            "3\n2\n8\n",
+            "1",
+            "t.tasks:1: count line says 3 but 2 entries follow",
+        ),
+        ("2\n0\n3\n", "2\n2\n8\n", "0", "`numTasksReveal` is 0"),
+    ] {
+        write(agents, tasks, reveal);
+        let (code, _, err) = solve();
+        assert_eq!(code, Some(1), "{says}: {err}");
+        assert!(err.contains(says), "expected `{says}` in: {err}");
+        assert!(!out.exists(), "{says}: nothing is written");
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -1,0 +1,295 @@
+//! The League of Robot Runners' output JSON, written from a trace and read back into one (start
+//! kit v2.1.2, `src/CompetitionSystem.cpp` `saveResults`; `docs/lorr-semantics.md` §5), so that
+//! the kit's viewer PlanViz plays mrpp's runs and `mrpp validate` judges the kit's.
+//!
+//! Written in the 2024 layout (`"version": "2024 LoRR"`, the one PlanViz 2.x and 3.x read), keys
+//! in the kit's order: `actionModel`, `version`, `teamSize`, `numTaskFinished`, `makespan`,
+//! `numPlannerErrors`, `numScheduleErrors`, `numEntryTimeouts`, `start` (`[row, col, "E"]`),
+//! `actualPaths` and `plannerPaths` (one comma-separated letter per step and robot),
+//! `plannerTimes` (seconds per call), `errors` (`[robot, robot, t, message]`), `actualSchedule`
+//! and `plannerSchedule` (per robot `"t:task,t:task"`, `-1` for none), `scheduleErrors`
+//! (`[task, robot, robot, t, message]`), `events` (`[t, robot, task, errands done]`) and `tasks`
+//! (`[id, t revealed, [row, col, row, col, ...]]`). Like the kit it writes no `sumOfCost` (the
+//! kit's documentation lists one, its code does not). `makespan` is, as in the kit, the most
+//! steps any robot spent holding a task. Under `MAPF` the `actionModel` is `"MAPF"` and moves
+//! are `U`, `D`, `L`, `R` as PlanViz reads them (`U` = row + 1; [`crate::model`]); the kit never
+//! writes that model.
+
+use std::path::Path;
+
+use serde_json::{Value, json};
+
+use mrpp_core::error::{Error, Result};
+
+use crate::model::{Action, ActionModel};
+use crate::problem::{Assign, LifelongProblem, ScheduleErrorRecord, StepError, Trace, replay};
+
+/// The `version` mrpp writes.
+pub const VERSION: &str = "2024 LoRR";
+
+/// LoRR's output JSON for `trace` on `problem` (module doc).
+///
+/// # Errors
+/// The validator's message when `trace` breaks a rule (only valid traces are written).
+pub fn to_json(problem: &LifelongProblem, trace: &Trace) -> std::result::Result<Value, String> {
+    let n = problem.starts().len();
+    let map = problem.map();
+    let mut held = vec![0u32; n];
+    let sim = replay(problem, trace, |sim| {
+        for (h, a) in held.iter_mut().zip(&sim.assignment) {
+            *h += u32::from(a.is_some());
+        }
+    })
+    .map_err(|e| e.to_string())?;
+    let row_col = |v| {
+        let (x, y) = map.cell(v);
+        (y, x)
+    };
+    let paths = |per_robot: &Vec<Vec<Action>>| -> Vec<String> {
+        per_robot
+            .iter()
+            .map(|a| {
+                a.iter()
+                    .map(|x| x.letter().to_string())
+                    .collect::<Vec<_>>()
+                    .join(",")
+            })
+            .collect()
+    };
+    let schedules = |changes: &[Assign]| -> Vec<String> {
+        let mut per = vec![Vec::new(); n];
+        for c in changes {
+            per[c.agent].push(format!("{}:{}", c.t, c.task.map_or(-1, |k| k as i64)));
+        }
+        per.into_iter().map(|v| v.join(",")).collect()
+    };
+    Ok(json!({
+        "actionModel": problem.model().name(),
+        "version": VERSION,
+        "teamSize": n,
+        "numTaskFinished": sim.finished,
+        "makespan": held.iter().copied().max().unwrap_or(0),
+        "numPlannerErrors": trace.errors.len(),
+        "numScheduleErrors": trace.schedule_errors.len(),
+        "numEntryTimeouts": trace.late_steps.len(),
+        "start": problem.starts().iter().map(|&v| {
+            let (r, c) = row_col(v);
+            json!([r, c, "E"])
+        }).collect::<Vec<_>>(),
+        "actualPaths": paths(&trace.actions),
+        "plannerPaths": paths(&trace.planned),
+        "plannerTimes": trace.planner_times,
+        "errors": trace.errors.iter().map(|e| json!([e.agent1, e.agent2, e.t, e.message])).collect::<Vec<_>>(),
+        "actualSchedule": schedules(&trace.schedule),
+        "plannerSchedule": schedules(&trace.proposed_schedule),
+        "scheduleErrors": trace.schedule_errors.iter().map(|e| json!([e.task, e.agent1, e.agent2, e.t, e.message])).collect::<Vec<_>>(),
+        "events": sim.events.iter().map(|e| json!([e.t, e.agent, e.task, e.done])).collect::<Vec<_>>(),
+        "tasks": sim.tasks.iter().map(|t| {
+            let cells: Vec<u32> = t.errands.iter().flat_map(|&v| {
+                let (r, c) = row_col(v);
+                [r, c]
+            }).collect();
+            json!([t.id, t.revealed, cells])
+        }).collect::<Vec<_>>(),
+    }))
+}
+
+/// What an output JSON says besides its trace, for comparing with a replay.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Claims {
+    /// The file's action model.
+    pub model: ActionModel,
+    /// Its `numTaskFinished`.
+    pub tasks_finished: u64,
+}
+
+/// Reads LoRR's output JSON (`text`, from `path`) back into a trace for `problem` (whose action
+/// model must be the file's: see [`model_of`]). Steps on which every robot's executed action is
+/// `T` are the kit's late steps. A task's finish frees its robot without an `actualSchedule`
+/// entry, as in the kit (which writes a `-1` only when a later schedule differs from the last
+/// value it wrote; applying it then changes nothing).
+///
+/// # Errors
+/// The file and rule: not JSON, a missing or mistyped key, a path of another robot count or
+/// length, a letter outside the model, a malformed schedule entry.
+pub fn from_json(problem: &LifelongProblem, text: &str, path: &Path) -> Result<(Trace, Claims)> {
+    let json: Value = serde_json::from_str(text.trim_start_matches('\u{feff}'))
+        .map_err(|e| Error::parse(path, e.line(), format!("not a LoRR output JSON: {e}")))?;
+    let model = model_of(&json, path)?;
+    let n = problem.starts().len();
+    let team = json
+        .get("teamSize")
+        .and_then(Value::as_u64)
+        .ok_or_else(|| Error::invalid(path, "no `teamSize` (an integer)"))?;
+    if team != n as u64 {
+        return Err(Error::invalid(
+            path,
+            format!("`teamSize` is {team}, the problem has {n} robots"),
+        ));
+    }
+    let paths = |key: &str| -> Result<Option<Vec<Vec<Action>>>> {
+        let Some(v) = json.get(key) else {
+            return Ok(None);
+        };
+        let list = v
+            .as_array()
+            .filter(|l| l.len() == n)
+            .ok_or_else(|| Error::invalid(path, format!("`{key}` must list {n} paths")))?;
+        list.iter()
+            .enumerate()
+            .map(|(i, p)| {
+                let s = p
+                    .as_str()
+                    .ok_or_else(|| Error::invalid(path, format!("`{key}`[{i}] is not a string")))?;
+                s.split(',')
+                    .filter(|l| !l.is_empty())
+                    .enumerate()
+                    .map(|(k, l)| {
+                        let c = l.trim();
+                        let mut chars = c.chars();
+                        match (chars.next(), chars.next()) {
+                            (Some(ch), None) => Action::from_letter(model, ch),
+                            _ => None,
+                        }
+                        .ok_or_else(|| {
+                            Error::invalid(
+                                path,
+                                format!(
+                                    "`{key}`[{i}], step {}: `{c}` is not a {} action",
+                                    k + 1,
+                                    model.name()
+                                ),
+                            )
+                        })
+                    })
+                    .collect()
+            })
+            .collect::<Result<Vec<Vec<Action>>>>()
+            .map(Some)
+    };
+    let actions = paths("actualPaths")?.ok_or_else(|| {
+        Error::invalid(path, "no `actualPaths`: run the kit with --outputScreen 1")
+    })?;
+    let steps = actions.first().map_or(0, Vec::len);
+    if let Some(i) = actions.iter().position(|a| a.len() != steps) {
+        return Err(Error::invalid(
+            path,
+            format!(
+                "`actualPaths`[{i}] has {} steps, [0] has {steps}",
+                actions[i].len()
+            ),
+        ));
+    }
+    let planned = paths("plannerPaths")?.unwrap_or_else(|| actions.clone());
+    let late_steps = (0..steps)
+        .filter(|&k| n > 0 && actions.iter().all(|a| a[k] == Action::NoAction))
+        .map(|k| k as u32)
+        .collect();
+    let schedule = schedule_changes(&json, "actualSchedule", n, path)?;
+    let proposed_schedule = schedule_changes(&json, "plannerSchedule", n, path)?;
+    let planner_times = json
+        .get("plannerTimes")
+        .and_then(Value::as_array)
+        .map(|l| l.iter().filter_map(Value::as_f64).collect())
+        .unwrap_or_default();
+    let tuple = |v: &Value, k: usize| v.get(k).and_then(Value::as_i64).unwrap_or(-1);
+    let text_at = |v: &Value, k: usize| v.get(k).and_then(Value::as_str).unwrap_or("").to_string();
+    let list = |key: &str| {
+        json.get(key)
+            .and_then(Value::as_array)
+            .cloned()
+            .unwrap_or_default()
+    };
+    let errors = list("errors")
+        .iter()
+        .map(|e| StepError {
+            agent1: tuple(e, 0),
+            agent2: tuple(e, 1),
+            t: tuple(e, 2).max(0) as u32,
+            message: text_at(e, 3),
+        })
+        .collect();
+    let schedule_errors = list("scheduleErrors")
+        .iter()
+        .map(|e| ScheduleErrorRecord {
+            task: tuple(e, 0),
+            agent1: tuple(e, 1),
+            agent2: tuple(e, 2),
+            t: tuple(e, 3).max(0) as u32,
+            message: text_at(e, 4),
+        })
+        .collect();
+    let tasks_finished = json
+        .get("numTaskFinished")
+        .and_then(Value::as_u64)
+        .ok_or_else(|| Error::invalid(path, "no `numTaskFinished` (an integer)"))?;
+    let trace = Trace {
+        actions,
+        planned,
+        schedule,
+        proposed_schedule,
+        late_steps,
+        planner_times,
+        errors,
+        schedule_errors,
+    };
+    Ok((
+        trace,
+        Claims {
+            model,
+            tasks_finished,
+        },
+    ))
+}
+
+/// The action model an output JSON declares (`actionModel`).
+///
+/// # Errors
+/// No `actionModel`, or one other than `MAPF` and `MAPF_T`.
+pub fn model_of(json: &Value, path: &Path) -> Result<ActionModel> {
+    let name = json
+        .get("actionModel")
+        .and_then(Value::as_str)
+        .ok_or_else(|| Error::invalid(path, "no `actionModel` (a string): not a LoRR output"))?;
+    ActionModel::parse(name).ok_or_else(|| {
+        Error::invalid(
+            path,
+            format!("`actionModel` is `{name}`: expected `MAPF_T` or `MAPF`"),
+        )
+    })
+}
+
+/// Per-robot `"t:task,t:task"` strings as changes in time order (robot order within a step).
+fn schedule_changes(json: &Value, key: &str, n: usize, path: &Path) -> Result<Vec<Assign>> {
+    let Some(v) = json.get(key) else {
+        return Ok(Vec::new());
+    };
+    let list = v
+        .as_array()
+        .filter(|l| l.len() == n)
+        .ok_or_else(|| Error::invalid(path, format!("`{key}` must list {n} schedules")))?;
+    let mut out = Vec::new();
+    for (agent, s) in list.iter().enumerate() {
+        let s = s
+            .as_str()
+            .ok_or_else(|| Error::invalid(path, format!("`{key}`[{agent}] is not a string")))?;
+        for entry in s.split(',').filter(|e| !e.trim().is_empty()) {
+            let bad = || {
+                Error::invalid(
+                    path,
+                    format!("`{key}`[{agent}]: `{entry}` is not `step:task`"),
+                )
+            };
+            let (t, task) = entry.trim().split_once(':').ok_or_else(bad)?;
+            let t: u32 = t.parse().map_err(|_| bad())?;
+            let task: i64 = task.parse().map_err(|_| bad())?;
+            out.push(Assign {
+                t,
+                agent,
+                task: usize::try_from(task).ok(),
+            });
+        }
+    }
+    out.sort_by_key(|c| (c.t, c.agent));
+    Ok(out)
+}

@@ -1,0 +1,208 @@
+//! One step of PIBT for lifelong runs, with rotations (the start kit's default planner's PIBT,
+//! `default_planner/pibt.cpp` v2.1.2, without its guide paths; PIBT: K. Okumura, M. Machida,
+//! X. Défago, Y. Tamura, "Priority inheritance with backtracking for iterative multi-agent path
+//! finding", Artificial Intelligence 310, 2022).
+//!
+//! Each robot's goal is its task's next errand; a robot without a task has its own cell as goal
+//! (it moves only when pushed). Priorities: steps spent on the current goal (reset when the goal
+//! changes), ties broken by a seeded random fraction drawn once per robot. In priority order each
+//! robot not yet decided runs PIBT: its candidates are its cell and the free neighbouring cells,
+//! nearest to its goal first by breadth-first distance, ties to fewer turns (the cell ahead
+//! first), then seeded at random; a candidate another robot reserved, or whose robot is coming to
+//! this robot's cell (a swap), is skipped; a robot on the chosen cell inherits the priority and
+//! must move first, else the next candidate is tried; with none left the robot stays.
+//!
+//! Under `MAPF` the chosen cells are the moves. Under `MAPF_T` a robot moves forward only if its
+//! chosen cell is ahead; otherwise it turns towards it (clockwise for a U-turn) and stays; and a
+//! robot moves forward only if the robot on its target cell moves away this step too (the kit's
+//! `moveCheck`), which is settled by stopping, transitively, every robot headed for the cell of
+//! a robot that stays. Cycles of robots moving forward together are kept (the kit allows them).
+//! The joint action never has a vertex or a swap conflict.
+
+use rand::seq::SliceRandom;
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+use mrpp_core::mapf::graph::VertexId;
+
+use crate::distances::Distances;
+use crate::model::{Action, ActionModel, direction, turns};
+use crate::sim::Simulation;
+
+const NIL: usize = usize::MAX;
+const UNSET: VertexId = VertexId::MAX;
+
+/// PIBT's state kept from step to step: priorities, the random tie-breaks and the buffers.
+#[derive(Debug, Clone)]
+pub struct RotationPibt {
+    rng: ChaCha8Rng,
+    tie: Vec<f64>,
+    elapsed: Vec<u32>,
+    last_goal: Vec<VertexId>,
+    now: Vec<VertexId>,
+    next: Vec<VertexId>,
+    occupied_now: Vec<usize>,
+    occupied_next: Vec<usize>,
+    /// Candidates of each robot, best first (at most 5: its cell and 4 neighbours).
+    cands: Vec<[VertexId; 5]>,
+    count: Vec<u8>,
+}
+
+impl RotationPibt {
+    /// State for `robots` robots on a graph of `vertices` vertices; every random choice comes
+    /// from `seed`.
+    pub fn new(robots: usize, vertices: usize, seed: u64) -> Self {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        let tie = (0..robots).map(|_| rng.random::<f64>()).collect();
+        RotationPibt {
+            rng,
+            tie,
+            elapsed: vec![0; robots],
+            last_goal: vec![UNSET; robots],
+            now: vec![UNSET; robots],
+            next: vec![UNSET; robots],
+            occupied_now: vec![NIL; vertices],
+            occupied_next: vec![NIL; vertices],
+            cands: vec![[UNSET; 5]; robots],
+            count: vec![0; robots],
+        }
+    }
+
+    /// The joint action of one step towards `goals` (one vertex per robot: its next errand, or
+    /// its own cell when it has no task).
+    pub fn step(
+        &mut self,
+        sim: &Simulation<'_>,
+        goals: &[VertexId],
+        dist: &mut Distances,
+    ) -> Vec<Action> {
+        let problem = sim.problem();
+        let map = problem.map();
+        let graph = map.graph();
+        let n = sim.states.len();
+        for (i, s) in sim.states.iter().enumerate() {
+            self.now[i] = s.vertex;
+            self.next[i] = UNSET;
+            self.occupied_now[s.vertex as usize] = i;
+            if goals[i] != self.last_goal[i] {
+                self.last_goal[i] = goals[i];
+                self.elapsed[i] = 0;
+            } else if goals[i] != s.vertex {
+                self.elapsed[i] += 1;
+            }
+        }
+        // Candidates, best first.
+        for (i, (&s, &goal)) in sim.states.iter().zip(goals).enumerate() {
+            let table = dist.table(graph, goal);
+            let mut c: Vec<(u32, u32, u32, VertexId)> = std::iter::once(s.vertex)
+                .chain(graph.neighbors(s.vertex).iter().copied())
+                .map(|w| {
+                    let turn = if w == s.vertex {
+                        0
+                    } else {
+                        direction(map, s.vertex, w).map_or(2, |d| turns(s.orientation, d))
+                    };
+                    (table[w as usize], turn, 0, w)
+                })
+                .collect();
+            c.shuffle(&mut self.rng);
+            for (k, e) in c.iter_mut().enumerate() {
+                e.2 = k as u32;
+            }
+            c.sort_unstable();
+            self.count[i] = c.len() as u8;
+            for (slot, e) in self.cands[i].iter_mut().zip(&c) {
+                *slot = e.3;
+            }
+        }
+        let mut order: Vec<usize> = (0..n).collect();
+        order.sort_by(|&a, &b| {
+            (f64::from(self.elapsed[b]) + self.tie[b])
+                .total_cmp(&(f64::from(self.elapsed[a]) + self.tie[a]))
+        });
+        for &i in &order {
+            if self.next[i] == UNSET {
+                self.pibt(i, NIL);
+            }
+        }
+        let actions = match problem.model() {
+            ActionModel::Mapf => (0..n)
+                .map(|i| {
+                    if self.next[i] == self.now[i] {
+                        Action::Wait
+                    } else {
+                        Action::Move(
+                            direction(map, self.now[i], self.next[i]).expect("a neighbour"),
+                        )
+                    }
+                })
+                .collect(),
+            ActionModel::MapfT => self.with_rotations(sim),
+        };
+        for i in 0..n {
+            self.occupied_now[self.now[i] as usize] = NIL;
+            self.occupied_next[self.next[i] as usize] = NIL;
+        }
+        actions
+    }
+
+    /// PIBT(i) with `parent` the robot that pushed it (module doc); false when `i` stays.
+    fn pibt(&mut self, i: usize, parent: usize) -> bool {
+        for k in 0..self.count[i] as usize {
+            let c = self.cands[i][k];
+            if self.occupied_next[c as usize] != NIL {
+                continue;
+            }
+            if parent != NIL && self.now[parent] == c {
+                continue;
+            }
+            let j = self.occupied_now[c as usize];
+            if j != NIL && j != i && self.next[j] == self.now[i] {
+                continue;
+            }
+            self.occupied_next[c as usize] = i;
+            self.next[i] = c;
+            if j != NIL && j != i && self.next[j] == UNSET && !self.pibt(j, i) {
+                continue;
+            }
+            return true;
+        }
+        self.next[i] = self.now[i];
+        self.occupied_next[self.now[i] as usize] = i;
+        false
+    }
+
+    /// The `MAPF_T` joint action of the chosen cells (module doc).
+    fn with_rotations(&self, sim: &Simulation<'_>) -> Vec<Action> {
+        let map = sim.problem().map();
+        let n = sim.states.len();
+        let mut actions = vec![Action::Wait; n];
+        let mut stays = Vec::new();
+        for (i, &s) in sim.states.iter().enumerate() {
+            if self.next[i] == s.vertex {
+                stays.push(i);
+                continue;
+            }
+            let d = direction(map, s.vertex, self.next[i]).expect("a neighbour");
+            actions[i] = if d == s.orientation {
+                Action::Forward
+            } else {
+                stays.push(i);
+                if (s.orientation + 1) % 4 == d || turns(s.orientation, d) == 2 {
+                    Action::Clockwise
+                } else {
+                    Action::CounterClockwise
+                }
+            };
+        }
+        // Whoever heads for the cell of a robot that stays stays too, transitively.
+        while let Some(j) = stays.pop() {
+            let k = self.occupied_next[self.now[j] as usize];
+            if k != NIL && k != j && actions[k] == Action::Forward {
+                actions[k] = Action::Wait;
+                stays.push(k);
+            }
+        }
+        actions
+    }
+}

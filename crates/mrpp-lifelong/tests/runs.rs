@@ -1,0 +1,82 @@
+//! Lifelong runs on the bundled League of Robot Runners examples: every planner and scheduler,
+//! both action models, validated by `solve`, written as LoRR's output JSON and read back.
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use mrpp_core::{Ctx, Problem, solve};
+use mrpp_lifelong::lorr_output::{from_json, to_json};
+use mrpp_lifelong::{ActionModel, LifelongProblem, PLANNERS};
+
+fn data(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../data/robot-runners")
+        .join(rel)
+}
+
+const EXAMPLES: [&str; 2] = [
+    "lorr2023-warehouse_small/warehouse_small_10.json",
+    "lorr2026-maze/maze-example_40.json",
+];
+
+#[test]
+fn every_planner_finishes_tasks_and_its_output_reads_back() {
+    for example in EXAMPLES {
+        for model in [ActionModel::MapfT, ActionModel::Mapf] {
+            let problem =
+                LifelongProblem::load(&data(example), model, 200, Duration::from_secs(1)).unwrap();
+            for entry in PLANNERS {
+                for scheduler in ["greedy", "hungarian"] {
+                    let what = format!("{example}, {}, {}, {scheduler}", model.name(), entry.name);
+                    let planner = entry
+                        .instantiate(&[("scheduler".into(), scheduler.into())])
+                        .unwrap();
+                    let ctx = Ctx {
+                        seed: 7,
+                        ..Ctx::default()
+                    };
+                    let solved = solve(planner.as_ref(), &problem, &ctx)
+                        .unwrap_or_else(|e| panic!("{what}: {e}"));
+                    let m = solved.metrics;
+                    assert_eq!(m.steps, 200, "{what}");
+                    assert!(m.tasks_finished > 0, "{what}: no task finished");
+                    assert_eq!(m.planner_errors, 0, "{what}");
+                    assert_eq!(m.schedule_errors, 0, "{what}");
+                    let json = to_json(&problem, &solved.plan).unwrap();
+                    assert_eq!(json["numTaskFinished"], m.tasks_finished, "{what}");
+                    let (back, claims) =
+                        from_json(&problem, &json.to_string(), Path::new("out.json")).unwrap();
+                    assert_eq!(claims.model, model);
+                    assert_eq!(back.actions, solved.plan.actions, "{what}");
+                    assert_eq!(back.schedule, solved.plan.schedule, "{what}");
+                    let again = problem.validate(&back).unwrap();
+                    assert_eq!(again.tasks_finished, m.tasks_finished, "{what}");
+                    eprintln!("{what}: {} tasks, {} errands", m.tasks_finished, m.errands);
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn a_run_is_reproducible_from_its_seed() {
+    let problem = LifelongProblem::load(
+        &data(EXAMPLES[1]),
+        ActionModel::MapfT,
+        100,
+        Duration::from_secs(1),
+    )
+    .unwrap();
+    let planner = PLANNERS[0].instantiate(&[]).unwrap();
+    let run = |seed| {
+        let ctx = Ctx {
+            seed,
+            ..Ctx::default()
+        };
+        solve(planner.as_ref(), &problem, &ctx)
+            .unwrap()
+            .plan
+            .actions
+    };
+    assert_eq!(run(3), run(3));
+}
