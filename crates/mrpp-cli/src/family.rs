@@ -61,6 +61,10 @@ pub struct Inputs {
     /// runs over loses one step per full budget, as in the League's start kit.
     #[arg(long, allow_negative_numbers = true)]
     pub step_time_limit: Option<f64>,
+    /// Lifelong: preprocessing time in seconds before the first step (default 30, the
+    /// League's); the planner builds distance tables then.
+    #[arg(long, allow_negative_numbers = true)]
+    pub preprocess_time_limit: Option<f64>,
     /// Lifelong: the action model, MAPF_T (orientation: forward, turn, wait; the League's) or
     /// MAPF (4-neighbour moves).
     #[arg(long)]

@@ -14,7 +14,7 @@ use serde_json::{Map, Value, json};
 use mrpp_core::Problem;
 use mrpp_core::mapf::plan_file::RunInfo;
 use mrpp_lifelong::lorr_output::{from_json, model_of, to_json};
-use mrpp_lifelong::problem::{DEFAULT_STEP_TIME, DEFAULT_STEPS};
+use mrpp_lifelong::problem::{DEFAULT_PREPROCESS_TIME, DEFAULT_STEP_TIME, DEFAULT_STEPS};
 use mrpp_lifelong::{ActionModel, LifelongProblem};
 use mrpp_mapf::lorr_files;
 
@@ -46,14 +46,22 @@ pub(crate) fn is_lorr_output(plan: &Path) -> bool {
         .is_some_and(|v| v.get("actionModel").is_some())
 }
 
-fn step_time(inputs: &Inputs) -> Result<Duration, Fail> {
-    match inputs.step_time_limit {
-        None => Ok(DEFAULT_STEP_TIME),
+fn seconds(given: Option<f64>, default: Duration, flag: &str) -> Result<Duration, Fail> {
+    match given {
+        None => Ok(default),
         Some(s) if s.is_finite() && s > 0.0 && s <= 3600.0 => Ok(Duration::from_secs_f64(s)),
         Some(s) => Err(Fail(format!(
-            "--step-time-limit must be a number of seconds in (0, 3600], got {s}"
+            "{flag} must be a number of seconds in (0, 3600], got {s}"
         ))),
     }
+}
+
+fn step_time(inputs: &Inputs) -> Result<Duration, Fail> {
+    seconds(
+        inputs.step_time_limit,
+        DEFAULT_STEP_TIME,
+        "--step-time-limit",
+    )
 }
 
 fn steps(inputs: &Inputs) -> Result<u32, Fail> {
@@ -89,7 +97,13 @@ fn load(inputs: &Inputs) -> Result<Loaded<LifelongProblem>, Fail> {
             "--agents does not apply to lifelong runs: the team is the problem's teamSize".into(),
         ));
     }
-    let problem = LifelongProblem::load(path, model(inputs)?, steps(inputs)?, step_time(inputs)?)?;
+    let preprocess = seconds(
+        inputs.preprocess_time_limit,
+        DEFAULT_PREPROCESS_TIME,
+        "--preprocess-time-limit",
+    )?;
+    let problem = LifelongProblem::load(path, model(inputs)?, steps(inputs)?, step_time(inputs)?)?
+        .with_preprocess_time(preprocess);
     let f = problem.files();
     let summary = format!(
         "map {} | robots {} | {} tasks in the file, {} open at a time | {} | {} steps, {} s per step",
@@ -118,11 +132,12 @@ fn write_plan(
     outcome: &Outcome<LifelongProblem>,
     notes: Map<String, Value>,
 ) -> Result<String, Fail> {
-    let (mut json, status, metrics) = match outcome {
+    let (mut json, status, metrics, preprocess) = match outcome {
         Ok(s) => (
             to_json(problem, &s.plan).map_err(Fail)?,
             "solved".to_string(),
             serde_json::to_value(s.metrics).unwrap_or(Value::Null),
+            s.plan.preprocess_time,
         ),
         Err(why) => (
             json!({
@@ -133,6 +148,7 @@ fn write_plan(
             }),
             why.to_string(),
             json!({}),
+            0.0,
         ),
     };
     json["mrpp"] = json!({
@@ -147,6 +163,7 @@ fn write_plan(
         "step_time_limit_s": problem.step_time().as_secs_f64(),
         "metrics": metrics,
         "runtime_ms": info.runtime_ms,
+        "preprocess_s": preprocess,
         "notes": notes,
     });
     serde_json::to_string(&json).map_err(|e| Fail(e.to_string()))

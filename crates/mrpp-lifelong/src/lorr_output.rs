@@ -232,6 +232,7 @@ pub fn from_json(problem: &LifelongProblem, text: &str, path: &Path) -> Result<(
         planner_times,
         errors,
         schedule_errors,
+        preprocess_time: 0.0,
     };
     Ok((
         trace,

@@ -22,6 +22,10 @@ pub const DEFAULT_STEPS: u32 = 1000;
 /// Default planning time per step (the kit's `--planTimeLimit` default, 1000 ms).
 pub const DEFAULT_STEP_TIME: Duration = Duration::from_secs(1);
 
+/// Default preprocessing time before the first step (the kit's `--preprocessTimeLimit`
+/// default, 30 000 ms).
+pub const DEFAULT_PREPROCESS_TIME: Duration = Duration::from_secs(30);
+
 /// A lifelong problem: a LoRR problem's map, robots and task file, run for `steps` steps under
 /// `model`, with `step_time` for each planner call.
 #[derive(Debug, Clone)]
@@ -30,6 +34,7 @@ pub struct LifelongProblem {
     model: ActionModel,
     steps: u32,
     step_time: Duration,
+    preprocess_time: Duration,
 }
 
 impl LifelongProblem {
@@ -41,7 +46,19 @@ impl LifelongProblem {
             model,
             steps: steps.max(1),
             step_time,
+            preprocess_time: DEFAULT_PREPROCESS_TIME,
         }
+    }
+
+    /// The same problem with `limit` for preprocessing (before step 0; not counted in any step).
+    pub fn with_preprocess_time(mut self, limit: Duration) -> Self {
+        self.preprocess_time = limit;
+        self
+    }
+
+    /// Preprocessing time before the first step.
+    pub fn preprocess_time(&self) -> Duration {
+        self.preprocess_time
     }
 
     /// Reads a LoRR problem JSON (`mrpp_mapf::lorr_files::load`) as a lifelong problem.
@@ -134,6 +151,8 @@ pub struct Trace {
     pub errors: Vec<StepError>,
     /// Refused schedules (`scheduleErrors`).
     pub schedule_errors: Vec<ScheduleErrorRecord>,
+    /// Wall time of the preprocessing before step 0, seconds.
+    pub preprocess_time: f64,
 }
 
 impl Trace {

@@ -92,17 +92,29 @@ impl RotationPibt {
             }
         }
         // Candidates, best first.
+        let mut verts = Vec::with_capacity(5);
+        let mut d = Vec::with_capacity(5);
         for (i, (&s, &goal)) in sim.states.iter().zip(goals).enumerate() {
-            let table = dist.table(graph, goal);
-            let mut c: Vec<(u32, u32, u32, VertexId)> = std::iter::once(s.vertex)
-                .chain(graph.neighbors(s.vertex).iter().copied())
-                .map(|w| {
+            verts.clear();
+            verts.push(s.vertex);
+            verts.extend_from_slice(graph.neighbors(s.vertex));
+            if goal == s.vertex {
+                // A robot without a task (or on its errand) stays unless pushed: no table needed.
+                d.clear();
+                d.extend(verts.iter().map(|&w| u32::from(w != goal)));
+            } else {
+                dist.to(graph, goal, &verts, &mut d);
+            }
+            let mut c: Vec<(u32, u32, u32, VertexId)> = verts
+                .iter()
+                .zip(&d)
+                .map(|(&w, &dw)| {
                     let turn = if w == s.vertex {
                         0
                     } else {
                         direction(map, s.vertex, w).map_or(2, |d| turns(s.orientation, d))
                     };
-                    (table[w as usize], turn, 0, w)
+                    (dw, turn, 0, w)
                 })
                 .collect();
             c.shuffle(&mut self.rng);
