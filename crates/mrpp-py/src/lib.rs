@@ -33,6 +33,12 @@ struct InputsJson {
     no_following: bool,
     formation: Option<PathBuf>,
     world: Option<PathBuf>,
+    #[serde(default)]
+    lifelong: bool,
+    steps: Option<usize>,
+    step_time_limit: Option<f64>,
+    preprocess_time_limit: Option<f64>,
+    action_model: Option<String>,
 }
 
 fn inputs(json: &str) -> PyResult<api::Inputs> {
@@ -47,6 +53,11 @@ fn inputs(json: &str) -> PyResult<api::Inputs> {
         no_following: i.no_following,
         formation: i.formation,
         world: i.world,
+        lifelong: i.lifelong,
+        steps: i.steps,
+        step_time_limit: i.step_time_limit,
+        preprocess_time_limit: i.preprocess_time_limit,
+        action_model: i.action_model,
         ..api::Inputs::default()
     })
 }

@@ -92,6 +92,21 @@ def test_league_of_robot_runners_problem():
     assert mrpp.validate(problem, result)["sum_of_costs"] == result.metrics["sum_of_costs"]
 
 
+def test_lifelong_league_of_robot_runners_run():
+    path = DATA / "robot-runners/lorr2026-maze/maze-example_40.json"
+    problem = mrpp.Problem.lorr(path, lifelong=True, steps=200)
+    assert problem.family == "lifelong" and problem.num_agents == 40
+    assert [p.name for p in mrpp.planners("lifelong")] == ["lifelong-pibt"]
+    result = mrpp.solve(problem, "lifelong-pibt", {"scheduler": "hungarian"}, seed=3)
+    assert result.solved and result.planner == "lifelong-pibt" and result.seed == 3
+    finished = result.metrics["tasks_finished"]
+    assert finished > 0 and result.envelope["numTaskFinished"] == finished
+    assert len(result.actions) == 40 and all(len(a) == 200 for a in result.actions)
+    assert mrpp.validate(problem, result)["tasks_finished"] == finished
+    with pytest.raises(mrpp.MrppError, match="lifelong=True"):
+        mrpp.Problem.lorr(path, steps=10)
+
+
 def test_the_gil_is_released_while_planning():
     problem = mrpp.Problem.grid(RANDOM_MAP, RANDOM_SCEN, agents=100)
     done = {}

@@ -94,10 +94,32 @@ class Problem:
         return cls(map=map, scen=scen, agents=agents)
 
     @classmethod
-    def lorr(cls, problem: PathLike, agents: Optional[int] = None) -> "Problem":
-        """A League of Robot Runners problem JSON (2023 or 2026 start-kit layout) as a one-shot
-        grid instance: agent i's goal is the first errand of task i."""
-        return cls(lorr=problem, agents=agents)
+    def lorr(
+        cls,
+        problem: PathLike,
+        agents: Optional[int] = None,
+        lifelong: bool = False,
+        steps: Optional[int] = None,
+        step_time_limit: Optional[float] = None,
+        action_model: Optional[str] = None,
+    ) -> "Problem":
+        """A League of Robot Runners problem JSON (2023, 2024 or 2026 start-kit layout). By
+        default a one-shot grid instance: agent i's goal is the first errand of task i. With
+        ``lifelong=True`` the problem is run step by step as the League's start kit runs it
+        (``steps``, default 1000; ``step_time_limit`` seconds per step, default 1;
+        ``action_model`` ``"MAPF_T"`` (default) or ``"MAPF"``); solve it with a lifelong planner
+        (``planners("lifelong")``); the result's ``envelope`` is the League's output JSON and
+        ``actions`` the executed actions. See docs/lifelong.md."""
+        if not lifelong and (steps is not None or step_time_limit is not None or action_model):
+            raise MrppError("steps, step_time_limit and action_model need lifelong=True")
+        return cls(
+            lorr=problem,
+            agents=agents,
+            lifelong=lifelong,
+            steps=steps,
+            step_time_limit=step_time_limit,
+            action_model=action_model,
+        )
 
     @classmethod
     def trees(cls, instance: PathLike, following: bool = True) -> "Problem":
@@ -130,22 +152,34 @@ class Result:
     """The plan file's content, exactly what ``mrpp solve --out plan.json`` writes."""
 
     @property
+    def _record(self) -> Dict[str, Any]:
+        # A lifelong run's file is the League's output JSON with mrpp's record under "mrpp".
+        return self.envelope.get("mrpp", self.envelope)
+
+    @property
     def planner(self) -> str:
-        return self.envelope.get("planner", "")
+        return self._record.get("planner", "")
 
     @property
     def seed(self) -> int:
-        return int(self.envelope.get("seed", 0))
+        return int(self._record.get("seed", 0))
 
     @property
     def metrics(self) -> Optional[Dict[str, Any]]:
         """The validator's metrics of a solved plan (e.g. ``sum_of_costs``, ``makespan``,
-        ``sum_of_moves`` on grids), None when not solved."""
-        return self.envelope.get("metrics")
+        ``sum_of_moves`` on grids; ``tasks_finished``, ``errands``, ``throughput`` in lifelong
+        runs), None when not solved."""
+        return self._record.get("metrics") or None
 
     @property
     def runtime_ms(self) -> float:
-        return float(self.envelope.get("runtime_ms", 0.0))
+        return float(self._record.get("runtime_ms", 0.0))
+
+    @property
+    def actions(self) -> List[str]:
+        """Lifelong runs: each robot's executed actions, one letter per step (``F``, ``R``,
+        ``C``, ``W``, ``T`` under MAPF_T); empty for other families."""
+        return [p.split(",") if p else [] for p in self.envelope.get("actualPaths") or []]
 
     @property
     def paths(self) -> List[np.ndarray]:
