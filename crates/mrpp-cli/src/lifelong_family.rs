@@ -33,7 +33,7 @@ pub(crate) static LIFELONG: Def<LifelongProblem> = Def {
     read_plan,
     info: Some(info),
     render: None,
-    scene: None,
+    scene: Some(scene),
     lacam: false,
 };
 
@@ -226,6 +226,74 @@ fn read_plan(inputs: &Inputs, plan_path: &Path) -> Result<ReadPlan<LifelongProbl
         claims: claimed,
         about,
     })
+}
+
+/// The viewer's scene of a lifelong run ([`crate::view`]; also `render --out run.gif`): the grid,
+/// each robot's cell at every step (replayed under the kit's rules), its start, and as its goal
+/// the errand it was heading for at the end. Orientation, task ids and the tasks-finished curve
+/// are not drawn yet.
+fn scene(inputs: &Inputs, plan: &Path) -> Result<Value, Fail> {
+    let read = read_plan(inputs, plan)?;
+    let problem = &read.problem;
+    let map = problem.map();
+    let n = problem.num_agents();
+    let cell = |v: mrpp_core::VertexId| {
+        let (x, y) = map.cell(v);
+        u64::from(y) * u64::from(map.width()) + u64::from(x)
+    };
+    let centre = |v: mrpp_core::VertexId| {
+        let (x, y) = map.cell(v);
+        json!([f64::from(x) + 0.5, f64::from(y) + 0.5])
+    };
+    let mut cells: Vec<Vec<u64>> = problem.starts().iter().map(|&v| vec![cell(v)]).collect();
+    let replayed = mrpp_lifelong::problem::replay(problem, &read.plan, |sim| {
+        for (c, s) in cells.iter_mut().zip(&sim.states) {
+            c.push(cell(s.vertex));
+        }
+    });
+    let (verdict, goals) = match replayed {
+        Ok(sim) => {
+            let goals: Vec<Value> = (0..n)
+                .map(|i| centre(sim.goal(i).unwrap_or(sim.states[i].vertex)))
+                .collect();
+            let m = problem
+                .validate(&read.plan)
+                .map_err(|v| Fail(v.to_string()))?;
+            (json!({"valid": true, "metrics": m}), goals)
+        }
+        Err(v) => (
+            json!({"valid": false, "text": v.to_string()}),
+            problem.starts().iter().map(|&v| centre(v)).collect(),
+        ),
+    };
+    let agents: Vec<Value> = (0..n)
+        .map(|i| {
+            json!({
+                "radius": 0.38,
+                "start": centre(problem.starts()[i]),
+                "goal": goals[i],
+                "cells": cells[i],
+            })
+        })
+        .collect();
+    let rows: Vec<String> = (0..map.height())
+        .map(|y| {
+            (0..map.width())
+                .map(|x| if map.is_free(x, y) { '.' } else { '#' })
+                .collect()
+        })
+        .collect();
+    Ok(json!({
+        "family": mrpp_lifelong::FAMILY,
+        "title": format!("{} | {}", file_name(&problem.files().path), file_name(plan)),
+        "about": read.about,
+        "bounds": [0.0, 0.0, f64::from(map.width()), f64::from(map.height())],
+        "y_up": false,
+        "cells": {"width": map.width(), "height": map.height(), "rows": rows},
+        "polygons": [],
+        "agents": agents,
+        "verdict": verdict,
+    }))
 }
 
 fn info(inputs: &Inputs) -> Result<u8, Fail> {

@@ -246,3 +246,42 @@ fn malformed_lifelong_problems_name_file_line_and_rule() {
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_lifelong_run_can_be_watched() {
+    let dir = tmp("view");
+    let run = dir.join("run.json");
+    let page = dir.join("run.html");
+    let (code, _, err) = mrpp(&[
+        "solve",
+        "--lorr",
+        MAZE,
+        "-P",
+        "lifelong-pibt",
+        "--steps",
+        "30",
+        "-o",
+        run.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    let (code, _, err) = mrpp(&[
+        "view",
+        "--lorr",
+        MAZE,
+        "--plan",
+        run.to_str().unwrap(),
+        "-o",
+        page.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    let html = std::fs::read_to_string(&page).unwrap();
+    assert!(html.contains(r#""family":"lifelong""#));
+    assert!(
+        html.contains(r#""valid":true"#),
+        "the run is shown as valid"
+    );
+    // 40 robots, 31 positions each (start and 30 steps).
+    let start = html.find(r#""agents":"#).unwrap();
+    assert_eq!(html[start..].matches(r#""cells":["#).count(), 40);
+    std::fs::remove_dir_all(&dir).unwrap();
+}
