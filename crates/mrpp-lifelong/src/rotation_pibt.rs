@@ -13,7 +13,10 @@
 //! must move first, else the next candidate is tried; with none left the robot stays.
 //!
 //! Under `MAPF` the chosen cells are the moves. Under `MAPF_T` a robot moves forward only if its
-//! chosen cell is ahead; otherwise it turns towards it (clockwise for a U-turn) and stays; and a
+//! chosen cell is ahead; otherwise it turns towards it (clockwise for a U-turn) and stays, and
+//! that cell goes first among equally good candidates at the next step (the kit's commitment,
+//! so that a U-turn is finished); a robot that stays anyway turns towards its best neighbouring
+//! cell closer to its goal, so that it can move as soon as the cell is free; and a
 //! robot moves forward only if the robot on its target cell moves away this step too (the kit's
 //! `moveCheck`), which is settled by stopping, transitively, every robot headed for the cell of
 //! a robot that stays. Cycles of robots moving forward together are kept (the kit allows them).
@@ -46,6 +49,12 @@ pub struct RotationPibt {
     /// Candidates of each robot, best first (at most 5: its cell and 4 neighbours).
     cands: Vec<[VertexId; 5]>,
     count: Vec<u8>,
+    /// The cell a robot turned towards at the last step (kept first among equals, so that a
+    /// U-turn is not undone half way), or `UNSET`.
+    committed: Vec<VertexId>,
+    /// Each robot's best neighbouring cell closer to its goal (`UNSET`: none), which a robot
+    /// that stays turns towards.
+    wish: Vec<VertexId>,
 }
 
 impl RotationPibt {
@@ -65,6 +74,8 @@ impl RotationPibt {
             occupied_next: vec![NIL; vertices],
             cands: vec![[UNSET; 5]; robots],
             count: vec![0; robots],
+            committed: vec![UNSET; robots],
+            wish: vec![UNSET; robots],
         }
     }
 
@@ -87,6 +98,7 @@ impl RotationPibt {
             if goals[i] != self.last_goal[i] {
                 self.last_goal[i] = goals[i];
                 self.elapsed[i] = 0;
+                self.committed[i] = UNSET;
             } else if goals[i] != s.vertex {
                 self.elapsed[i] += 1;
             }
@@ -105,7 +117,8 @@ impl RotationPibt {
             } else {
                 dist.to(graph, goal, &verts, &mut d);
             }
-            let mut c: Vec<(u32, u32, u32, VertexId)> = verts
+            let committed = self.committed[i];
+            let mut c: Vec<(u32, u32, u32, u32, VertexId)> = verts
                 .iter()
                 .zip(&d)
                 .map(|(&w, &dw)| {
@@ -114,18 +127,23 @@ impl RotationPibt {
                     } else {
                         direction(map, s.vertex, w).map_or(2, |d| turns(s.orientation, d))
                     };
-                    (dw, turn, 0, w)
+                    (dw, turn, u32::from(w != committed), 0, w)
                 })
                 .collect();
             c.shuffle(&mut self.rng);
             for (k, e) in c.iter_mut().enumerate() {
-                e.2 = k as u32;
+                e.3 = k as u32;
             }
             c.sort_unstable();
             self.count[i] = c.len() as u8;
             for (slot, e) in self.cands[i].iter_mut().zip(&c) {
-                *slot = e.3;
+                *slot = e.4;
             }
+            let here = d[0];
+            self.wish[i] = c
+                .iter()
+                .find(|e| e.4 != s.vertex && e.0 < here)
+                .map_or(UNSET, |e| e.4);
         }
         let mut order: Vec<usize> = (0..n).collect();
         order.sort_by(|&a, &b| {
@@ -185,14 +203,29 @@ impl RotationPibt {
     }
 
     /// The `MAPF_T` joint action of the chosen cells (module doc).
-    fn with_rotations(&self, sim: &Simulation<'_>) -> Vec<Action> {
+    fn with_rotations(&mut self, sim: &Simulation<'_>) -> Vec<Action> {
         let map = sim.problem().map();
         let n = sim.states.len();
         let mut actions = vec![Action::Wait; n];
         let mut stays = Vec::new();
+        let turn_to = |o, d| {
+            if (o + 1) % 4 == d || turns(o, d) == 2 {
+                Action::Clockwise
+            } else {
+                Action::CounterClockwise
+            }
+        };
         for (i, &s) in sim.states.iter().enumerate() {
+            self.committed[i] = UNSET;
             if self.next[i] == s.vertex {
                 stays.push(i);
+                // Staying anyway: turn towards the cell it would rather be in.
+                if self.wish[i] != UNSET
+                    && let Some(d) = direction(map, s.vertex, self.wish[i])
+                    && d != s.orientation
+                {
+                    actions[i] = turn_to(s.orientation, d);
+                }
                 continue;
             }
             let d = direction(map, s.vertex, self.next[i]).expect("a neighbour");
@@ -200,11 +233,8 @@ impl RotationPibt {
                 Action::Forward
             } else {
                 stays.push(i);
-                if (s.orientation + 1) % 4 == d || turns(s.orientation, d) == 2 {
-                    Action::Clockwise
-                } else {
-                    Action::CounterClockwise
-                }
+                self.committed[i] = self.next[i];
+                turn_to(s.orientation, d)
             };
         }
         // Whoever heads for the cell of a robot that stays stays too, transitively.
