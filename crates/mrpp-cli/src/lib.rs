@@ -85,7 +85,7 @@ enum Command {
     /// List the planners of every family (or of one) with their parameters.
     #[command(after_help = "Examples (from the repository's root):\n  mrpp planners --family grid")]
     Planners {
-        /// Only this family (grid, trees, formation, continuous).
+        /// Only this family (grid, trees, formation, continuous, lifelong).
         #[arg(long, value_parser = output::Offer(output::family_names))]
         family: Option<String>,
     },
