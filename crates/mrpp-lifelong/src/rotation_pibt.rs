@@ -20,7 +20,10 @@
 //! robot moves forward only if the robot on its target cell moves away this step too (the kit's
 //! `moveCheck`), which is settled by stopping, transitively, every robot headed for the cell of
 //! a robot that stays. Cycles of robots moving forward together are kept (the kit allows them).
-//! The joint action never has a vertex or a swap conflict.
+//! A robot that has stood still for [`STUCK_AFTER`] steps with somewhere to go takes its
+//! candidates in a seeded random order for one step (mrpp's escape: without it, dense crowds on
+//! random-32-32-20 froze for good, every robot waiting, after about 400 steps). The joint action
+//! never has a vertex or a swap conflict.
 
 use rand::seq::SliceRandom;
 use rand::{RngExt, SeedableRng};
@@ -55,7 +58,14 @@ pub struct RotationPibt {
     /// Each robot's best neighbouring cell closer to its goal (`UNSET`: none), which a robot
     /// that stays turns towards.
     wish: Vec<VertexId>,
+    /// Steps each robot has stood on its cell while it had somewhere to go.
+    still: Vec<u32>,
+    last_vertex: Vec<VertexId>,
 }
+
+/// Steps a robot may stand still with somewhere to go before it takes its candidates in a
+/// random order for a step (an escape from the jams PIBT with rotations can freeze in).
+pub const STUCK_AFTER: u32 = 8;
 
 impl RotationPibt {
     /// State for `robots` robots on a graph of `vertices` vertices; every random choice comes
@@ -76,6 +86,8 @@ impl RotationPibt {
             count: vec![0; robots],
             committed: vec![UNSET; robots],
             wish: vec![UNSET; robots],
+            still: vec![0; robots],
+            last_vertex: vec![UNSET; robots],
         }
     }
 
@@ -102,6 +114,12 @@ impl RotationPibt {
             } else if goals[i] != s.vertex {
                 self.elapsed[i] += 1;
             }
+            if s.vertex == self.last_vertex[i] && goals[i] != s.vertex {
+                self.still[i] += 1;
+            } else {
+                self.still[i] = 0;
+            }
+            self.last_vertex[i] = s.vertex;
         }
         // Candidates, best first.
         let mut verts = Vec::with_capacity(5);
@@ -118,6 +136,7 @@ impl RotationPibt {
                 dist.to(graph, goal, &verts, &mut d);
             }
             let committed = self.committed[i];
+            let stuck = self.still[i] >= STUCK_AFTER;
             let mut c: Vec<(u32, u32, u32, u32, VertexId)> = verts
                 .iter()
                 .zip(&d)
@@ -127,7 +146,11 @@ impl RotationPibt {
                     } else {
                         direction(map, s.vertex, w).map_or(2, |d| turns(s.orientation, d))
                     };
-                    (dw, turn, u32::from(w != committed), 0, w)
+                    if stuck {
+                        (0, 0, 0, 0, w)
+                    } else {
+                        (dw, turn, u32::from(w != committed), 0, w)
+                    }
                 })
                 .collect();
             c.shuffle(&mut self.rng);
