@@ -135,7 +135,21 @@ fn write_plan(
     let (mut json, status, metrics, preprocess) = match outcome {
         Ok(s) => (
             to_json(problem, &s.plan).map_err(Fail)?,
-            "solved".to_string(),
+            if s.metrics.steps < problem.steps() {
+                // The run's --time-limit (or Ctrl-C) stopped it before the horizon.
+                eprintln!(
+                    "mrpp: warning: the run stopped at the time limit after {} of {} steps (--time-limit covers the whole run)",
+                    s.metrics.steps,
+                    problem.steps()
+                );
+                format!(
+                    "stopped after {} of {} steps (time limit)",
+                    s.metrics.steps,
+                    problem.steps()
+                )
+            } else {
+                "solved".to_string()
+            },
             serde_json::to_value(s.metrics).unwrap_or(Value::Null),
             s.plan.preprocess_time,
         ),

@@ -285,3 +285,39 @@ fn a_lifelong_run_can_be_watched() {
     assert_eq!(html[start..].matches(r#""cells":["#).count(), 40);
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_run_cut_by_the_time_limit_keeps_its_steps_and_says_so() {
+    let dir = tmp("cut");
+    let run = dir.join("run.json");
+    let (code, _, err) = mrpp(&[
+        "solve",
+        "--lorr",
+        MAZE,
+        "-P",
+        "lifelong-pibt",
+        "--steps",
+        "10000000",
+        "--time-limit",
+        "0.2",
+        "-o",
+        run.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    assert!(err.contains("stopped at the time limit after"), "{err}");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&run).unwrap()).unwrap();
+    let steps = v["mrpp"]["metrics"]["steps"].as_u64().unwrap();
+    assert!(steps > 0 && steps < 10_000_000, "{steps}");
+    assert!(
+        v["mrpp"]["status"]
+            .as_str()
+            .unwrap()
+            .starts_with("stopped after"),
+        "{}",
+        v["mrpp"]["status"]
+    );
+    let (code, _, err) = mrpp(&["validate", "--lorr", MAZE, "--plan", run.to_str().unwrap()]);
+    assert_eq!(code, Some(0), "the steps done are a valid run: {err}");
+    std::fs::remove_dir_all(&dir).unwrap();
+}

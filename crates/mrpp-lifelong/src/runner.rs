@@ -131,8 +131,8 @@ pub fn run(
     let prep = Deadline::after(problem.preprocess_time());
     dist.warm(graph, &errands, &[prep, ctx.deadline]);
     let mut trace = Trace {
-        actions: vec![Vec::with_capacity(steps as usize); n],
-        planned: vec![Vec::with_capacity(steps as usize); n],
+        actions: vec![Vec::with_capacity((steps as usize).min(4096)); n],
+        planned: vec![Vec::with_capacity((steps as usize).min(4096)); n],
         ..Trace::default()
     };
     trace.preprocess_time = started.elapsed().as_secs_f64();
