@@ -275,6 +275,18 @@ fn render(inputs: &Inputs, plan: &Path) -> Result<String, Fail> {
 /// `mrpp view`: the viewer's scene of a grid plan ([`crate::view`]): blocked cells as rows of
 /// `#`/`.`, agents at cell centres (cell `(x, y)` spans `[x, x+1] x [y, y+1]`), and the
 /// validator's verdict.
+/// The viewer scene's `cells.rows` of a grid map: one string per row, `#` blocked, `.` free
+/// (also the lifelong family's).
+pub(crate) fn scene_rows(map: &GridMap) -> Vec<String> {
+    (0..map.height())
+        .map(|y| {
+            (0..map.width())
+                .map(|x| if map.is_free(x, y) { '.' } else { '#' })
+                .collect()
+        })
+        .collect()
+}
+
 fn scene(inputs: &Inputs, plan: &Path) -> Result<Value, Fail> {
     let read = read_plan(inputs, plan)?;
     let (map, map_path) = map_of(inputs)?;
@@ -283,13 +295,7 @@ fn scene(inputs: &Inputs, plan: &Path) -> Result<Value, Fail> {
         let (x, y) = map.cell(v);
         json!([f64::from(x) + 0.5, f64::from(y) + 0.5])
     };
-    let rows: Vec<String> = (0..map.height())
-        .map(|y| {
-            (0..map.width())
-                .map(|x| if map.is_free(x, y) { '.' } else { '#' })
-                .collect()
-        })
-        .collect();
+    let rows = scene_rows(&map);
     // Paths as cell indices `y * width + x` (the page puts agents at cell centres): a third of
     // the size of coordinate pairs, which matters for 10,000 agents.
     let agents: Vec<Value> = (0..inst.num_agents())

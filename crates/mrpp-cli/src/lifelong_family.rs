@@ -290,13 +290,7 @@ fn scene(inputs: &Inputs, plan: &Path) -> Result<Value, Fail> {
             })
         })
         .collect();
-    let rows: Vec<String> = (0..map.height())
-        .map(|y| {
-            (0..map.width())
-                .map(|x| if map.is_free(x, y) { '.' } else { '#' })
-                .collect()
-        })
-        .collect();
+    let rows = crate::grid_family::scene_rows(map);
     Ok(json!({
         "family": mrpp_lifelong::FAMILY,
         "title": format!("{} | {}", file_name(&problem.files().path), file_name(plan)),

@@ -8,11 +8,9 @@
 //! rebuilt when asked for again. [`Distances::warm`] builds tables ahead of a run (the kit's
 //! preprocessing), within a deadline.
 
-use std::collections::VecDeque;
-
 use mrpp_core::Deadline;
 use mrpp_core::mapf::graph::{Graph, VertexId};
-use mrpp_core::mapf::search::distance::UNREACHABLE;
+use mrpp_core::mapf::search::distance::{UNREACHABLE, bfs_distances};
 
 /// Default memory budget of the tables: 4 GiB.
 pub const DEFAULT_BUDGET: usize = 4 << 30;
@@ -43,7 +41,6 @@ pub struct Distances {
     max_tables: usize,
     clock: u64,
     built: usize,
-    queue: VecDeque<VertexId>,
 }
 
 impl Distances {
@@ -57,7 +54,6 @@ impl Distances {
             max_tables: (budget / per_table).max(1),
             clock: 0,
             built: 0,
-            queue: VecDeque::new(),
         }
     }
 
@@ -112,28 +108,15 @@ impl Distances {
             let old = self.live.swap_remove(pos);
             self.tables[old as usize] = None;
         }
-        let table = self.bfs(graph, to);
+        let table = Self::bfs(graph, to);
         self.tables[to as usize] = Some((table, self.clock));
         self.live.push(to);
         self.built += 1;
     }
 
-    fn bfs(&mut self, graph: &Graph, source: VertexId) -> Table {
-        let n = graph.num_vertices();
-        let mut dist = vec![UNREACHABLE; n];
-        self.queue.clear();
-        dist[source as usize] = 0;
-        self.queue.push_back(source);
-        while let Some(u) = self.queue.pop_front() {
-            let d = dist[u as usize] + 1;
-            for &v in graph.neighbors(u) {
-                if dist[v as usize] == UNREACHABLE {
-                    dist[v as usize] = d;
-                    self.queue.push_back(v);
-                }
-            }
-        }
-        if n < u16::MAX as usize {
+    fn bfs(graph: &Graph, source: VertexId) -> Table {
+        let dist = bfs_distances(graph, source);
+        if graph.num_vertices() < u16::MAX as usize {
             Table::Narrow(
                 dist.into_iter()
                     .map(|d| if d == UNREACHABLE { u16::MAX } else { d as u16 })
@@ -157,7 +140,6 @@ pub fn plus(d: u32, extra: u32) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use mrpp_core::mapf::search::distance::bfs_distances;
     use mrpp_mapf::GridMap;
 
     #[test]

@@ -129,7 +129,19 @@ pub fn run(
         .filter(|&v| seen.insert(v))
         .collect();
     let prep = Deadline::after(problem.preprocess_time());
-    dist.warm(graph, &errands, &[prep, ctx.deadline]);
+    for (k, chunk) in errands.chunks(256).enumerate() {
+        let live = dist.warm(graph, chunk, &[prep, ctx.deadline]);
+        ctx.report(Progress {
+            stage: "preprocessing",
+            done: ((k * 256) + chunk.len()) as u64,
+            total: errands.len() as u64,
+            note: format!("{live} distance tables"),
+        });
+        if prep.expired() || ctx.deadline.expired() || live < (k * 256) + chunk.len() {
+            // Out of time, or the tables' budget is full.
+            break;
+        }
+    }
     let mut trace = Trace {
         actions: vec![Vec::with_capacity((steps as usize).min(4096)); n],
         planned: vec![Vec::with_capacity((steps as usize).min(4096)); n],

@@ -122,16 +122,15 @@ fn hungarian(
     let agents: Vec<usize> = (0..proposal.len())
         .filter(|&i| proposal[i].is_none_or(movable))
         .collect();
-    let tasks: Vec<usize> = sim
-        .open
-        .iter()
-        .copied()
-        .filter(|&k| movable(k) && sim.tasks[k].agent.is_none_or(|i| agents.contains(&i)))
-        .collect();
+    if agents.len() > max {
+        return None;
+    }
+    // Every task held by a movable robot is movable too (its first errand is not reached).
+    let tasks: Vec<usize> = sim.open.iter().copied().filter(|&k| movable(k)).collect();
     if agents.is_empty() || tasks.is_empty() {
         return Some(proposal);
     }
-    if agents.len() > max || tasks.len() > max {
+    if tasks.len() > max {
         return None;
     }
     let chains: Vec<u32> = tasks.iter().map(|&k| errand_chain(sim, dist, k)).collect();
