@@ -8,11 +8,13 @@
 //! independently.
 //!
 //! Parts, as in the kit, so each can be swapped: the simulator ([`sim`]), the scheduler
-//! ([`scheduler`]) and the planner ([`rotation_pibt`]), joined by the loop in [`runner`]. Output
-//! in LoRR's own JSON (which the kit's viewer PlanViz reads) is [`lorr_output`].
+//! ([`scheduler`]) and the planner ([`rotation_pibt`], optionally on [`guide_paths`]), joined by
+//! the loop in [`runner`]. Output in LoRR's own JSON (which the kit's viewer PlanViz reads) is
+//! [`lorr_output`].
 //! `docs/lorr-semantics.md` has the kit's semantics with file and line references.
 
 pub mod distances;
+pub mod guide_paths;
 pub mod lorr_output;
 pub mod model;
 pub mod problem;

@@ -1,7 +1,7 @@
 //! One step of PIBT for lifelong runs, with rotations (the start kit's default planner's PIBT,
-//! `default_planner/pibt.cpp` v2.1.2, without its guide paths; PIBT: K. Okumura, M. Machida,
-//! X. Défago, Y. Tamura, "Priority inheritance with backtracking for iterative multi-agent path
-//! finding", Artificial Intelligence 310, 2022).
+//! `default_planner/pibt.cpp` v2.1.2, whose guide paths are [`crate::guide_paths`]; PIBT:
+//! K. Okumura, M. Machida, X. Défago, Y. Tamura, "Priority inheritance with backtracking for
+//! iterative multi-agent path finding", Artificial Intelligence 310, 2022).
 //!
 //! Each robot's goal is its task's next errand; a robot without a task has its own cell as goal
 //! (it moves only when pushed). Priorities: steps spent on the current goal (reset when the goal
@@ -32,6 +32,7 @@ use rand_chacha::ChaCha8Rng;
 use mrpp_core::mapf::graph::VertexId;
 
 use crate::distances::Distances;
+use crate::guide_paths::GuidePaths;
 use crate::model::{Action, ActionModel, direction, turns};
 use crate::sim::Simulation;
 
@@ -92,12 +93,15 @@ impl RotationPibt {
     }
 
     /// The joint action of one step towards `goals` (one vertex per robot: its next errand, or
-    /// its own cell when it has no task).
+    /// its own cell when it has no task). With `guide`, a robot that has a guide path to its
+    /// goal ranks its candidates by their distance along that path
+    /// ([`crate::guide_paths`]) instead of their distance to the goal.
     pub fn step(
         &mut self,
         sim: &Simulation<'_>,
         goals: &[VertexId],
         dist: &mut Distances,
+        mut guide: Option<&mut GuidePaths>,
     ) -> Vec<Action> {
         let problem = sim.problem();
         let map = problem.map();
@@ -133,7 +137,10 @@ impl RotationPibt {
                 d.clear();
                 d.extend(verts.iter().map(|&w| u32::from(w != goal)));
             } else {
-                dist.to(graph, goal, &verts, &mut d);
+                match guide.as_deref_mut() {
+                    Some(g) if g.follows(i, goal) => g.distances(i, &verts, &mut d),
+                    _ => dist.to(graph, goal, &verts, &mut d),
+                }
             }
             let committed = self.committed[i];
             let stuck = self.still[i] >= STUCK_AFTER;

@@ -26,10 +26,22 @@ fn every_planner_finishes_tasks_and_its_output_reads_back() {
             let problem =
                 LifelongProblem::load(&data(example), model, 200, Duration::from_secs(1)).unwrap();
             for entry in PLANNERS {
-                for scheduler in ["greedy", "hungarian"] {
-                    let what = format!("{example}, {}, {}, {scheduler}", model.name(), entry.name);
+                for (scheduler, guidance) in [
+                    ("greedy", "none"),
+                    ("hungarian", "none"),
+                    ("greedy", "traffic-flow"),
+                    ("hungarian", "traffic-flow"),
+                ] {
+                    let what = format!(
+                        "{example}, {}, {}, {scheduler}, {guidance}",
+                        model.name(),
+                        entry.name
+                    );
                     let planner = entry
-                        .instantiate(&[("scheduler".into(), scheduler.into())])
+                        .instantiate(&[
+                            ("scheduler".into(), scheduler.into()),
+                            ("guidance".into(), guidance.into()),
+                        ])
                         .unwrap();
                     let ctx = Ctx {
                         seed: 7,
@@ -67,7 +79,9 @@ fn a_run_is_reproducible_from_its_seed() {
         Duration::from_secs(1),
     )
     .unwrap();
-    let planner = PLANNERS[0].instantiate(&[]).unwrap();
+    let planner = PLANNERS[0]
+        .instantiate(&[("guidance".into(), "traffic-flow".into())])
+        .unwrap();
     let run = |seed| {
         let ctx = Ctx {
             seed,
