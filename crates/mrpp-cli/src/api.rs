@@ -72,6 +72,15 @@ pub fn load(inputs: &Inputs) -> Result<(&'static str, String, usize), String> {
     Ok((family.name(), summary, agents))
 }
 
+/// The lifelong problem the inputs name (`lorr`, with `steps`, `step_time_limit`,
+/// `action_model`), for a run driven step by step by the caller ([`mrpp_lifelong::runner::Run`]).
+///
+/// # Errors
+/// No `lorr` file, or a file that does not read (file, line and rule), or a bad option.
+pub fn load_lifelong(inputs: &Inputs) -> Result<mrpp_lifelong::LifelongProblem, String> {
+    crate::lifelong_family::load_problem(inputs).map_err(|f| f.0)
+}
+
 /// Plans with `planner` (with `params` as `-p key=value` pairs), `seed` and `time_limit`
 /// seconds; the plan went through the family's validator when `solved`.
 ///

@@ -90,7 +90,8 @@ fn lorr_path(inputs: &Inputs) -> Result<&Path, Fail> {
         .ok_or_else(|| Fail("lifelong problems need --lorr P.json".into()))
 }
 
-fn load(inputs: &Inputs) -> Result<Loaded<LifelongProblem>, Fail> {
+/// The lifelong problem the inputs name (`--lorr` with the run's flags), checked.
+pub(crate) fn load_problem(inputs: &Inputs) -> Result<LifelongProblem, Fail> {
     let path = lorr_path(inputs)?;
     if inputs.agents.is_some() {
         return Err(Fail(
@@ -102,8 +103,15 @@ fn load(inputs: &Inputs) -> Result<Loaded<LifelongProblem>, Fail> {
         DEFAULT_PREPROCESS_TIME,
         "--preprocess-time-limit",
     )?;
-    let problem = LifelongProblem::load(path, model(inputs)?, steps(inputs)?, step_time(inputs)?)?
-        .with_preprocess_time(preprocess);
+    Ok(
+        LifelongProblem::load(path, model(inputs)?, steps(inputs)?, step_time(inputs)?)?
+            .with_preprocess_time(preprocess),
+    )
+}
+
+fn load(inputs: &Inputs) -> Result<Loaded<LifelongProblem>, Fail> {
+    let path = lorr_path(inputs)?;
+    let problem = load_problem(inputs)?;
     let f = problem.files();
     let summary = format!(
         "map {} | robots {} | {} tasks in the file, {} open at a time | {} | {} steps, {} s per step",

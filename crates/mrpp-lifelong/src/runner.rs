@@ -293,9 +293,12 @@ impl<'p> Run<'p> {
             )));
         }
         let next = self.sim.check_actions(actions).map_err(|e| {
-            let (a, b) = e.agents();
+            let who = match e.agents() {
+                (a, -1) => format!("robot {a}"),
+                (a, b) => format!("robots {a} and {b}"),
+            };
             Unsolved::Invalid(format!(
-                "step {}: the joint action has a {} (robots {a} and {b})",
+                "step {}: the joint action breaks a rule: {} ({who})",
                 self.sim.t + 1,
                 e.message()
             ))

@@ -13,6 +13,8 @@ use serde::Deserialize;
 
 use mrpp_cli::api;
 
+mod simulation;
+
 create_exception!(
     mrpp,
     MrppError,
@@ -126,5 +128,6 @@ fn _native(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(solve, m)?)?;
     m.add_function(wrap_pyfunction!(validate, m)?)?;
     m.add_function(wrap_pyfunction!(view_page, m)?)?;
+    m.add_class::<simulation::Simulation>()?;
     Ok(())
 }

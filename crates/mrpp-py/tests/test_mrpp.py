@@ -107,6 +107,69 @@ def test_lifelong_league_of_robot_runners_run():
         mrpp.Problem.lorr(path, steps=10)
 
 
+def test_a_lifelong_run_driven_step_by_step_from_python(tmp_path):
+    path = DATA / "robot-runners/lorr2026-maze/maze-example_40.json"
+    problem = mrpp.Problem.lorr(path, lifelong=True, steps=120)
+    # mrpp's own planner, then the same actions and greedy schedules fed one step at a time:
+    # the Python-driven run is the same run.
+    result = mrpp.solve(problem, "lifelong-pibt", {"scheduler": "greedy"}, seed=5)
+    sim = problem.simulation()
+    assert sim.state()["t"] == 0 and len(sim.state()["robots"]) == 40
+    for t in range(120):
+        sim.step([a[t] for a in result.actions], schedule=sim.schedule("greedy"))
+    assert sim.done
+    state = sim.state()
+    assert state["tasks_finished"] == result.metrics["tasks_finished"] > 0
+    out = tmp_path / "run.json"
+    sim.save(out)
+    assert mrpp.validate(problem, out)["tasks_finished"] == state["tasks_finished"]
+    with pytest.raises(mrpp.MrppError, match="horizon"):
+        sim.step("W" * 40)
+
+    # A policy of one's own under MAPF: step towards the goal onto a free cell no robot is on
+    # or heads for (a toy); it never proposes an illegal step.
+    problem = mrpp.Problem.lorr(path, lifelong=True, steps=60, action_model="MAPF")
+    sim = problem.simulation()
+    free = sim.grid()
+    moves = {"R": (1, 0), "U": (0, 1), "L": (-1, 0), "D": (0, -1)}
+    while not sim.done:
+        state = sim.state()
+        taken = {(r["x"], r["y"]) for r in state["robots"]}
+        actions = []
+        for r in state["robots"]:
+            choice = "W"
+            if r["goal"] is not None:
+                gx, gy = r["goal"]
+                for letter, (dx, dy) in moves.items():
+                    x, y = r["x"] + dx, r["y"] + dy
+                    inside = 0 <= y < free.shape[0] and 0 <= x < free.shape[1]
+                    if (inside and free[y, x] and (x, y) not in taken
+                            and abs(x - gx) + abs(y - gy) < abs(r["x"] - gx) + abs(r["y"] - gy)):
+                        choice = letter
+                        taken.add((x, y))
+                        break
+            actions.append(choice)
+        sim.step(actions, schedule=sim.schedule("hungarian"))
+    assert sim.state()["errands_done"] > 0
+    sim.save(out)
+    assert mrpp.validate(problem, out)["steps"] == 60
+
+    # Refused steps name the rule and the robots, and execute nothing.
+    sim = problem.simulation()
+    first = sim.state()["robots"]
+    i, wall = next((i, letter) for i, a in enumerate(first)
+                   for letter, (dx, dy) in moves.items()
+                   if not (0 <= a["y"] + dy < free.shape[0] and 0 <= a["x"] + dx < free.shape[1]
+                           and free[a["y"] + dy, a["x"] + dx]))
+    with pytest.raises(mrpp.MrppError, match=rf"unallowed move \(robot {i}\)"):
+        sim.step(["W"] * i + [wall] + ["W"] * (39 - i))
+    with pytest.raises(mrpp.MrppError, match="is not an action of the MAPF model"):
+        sim.step(["F"] + ["W"] * 39)
+    with pytest.raises(mrpp.MrppError, match="one each"):
+        sim.step(["W"] * 39)
+    assert sim.state()["t"] == 0 and sim.state()["robots"] == first
+
+
 def test_the_gil_is_released_while_planning():
     problem = mrpp.Problem.grid(RANDOM_MAP, RANDOM_SCEN, agents=100)
     done = {}

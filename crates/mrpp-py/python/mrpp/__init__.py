@@ -33,6 +33,7 @@ __all__ = [
     "Planner",
     "Problem",
     "Result",
+    "Simulation",
     "planners",
     "solve",
     "validate",
@@ -121,6 +122,11 @@ class Problem:
             action_model=action_model,
         )
 
+    def simulation(self) -> "Simulation":
+        """A lifelong problem (``Problem.lorr(..., lifelong=True)``) at step 0, to drive step by
+        step with a planner of your own (``Simulation``)."""
+        return Simulation(self)
+
     @classmethod
     def trees(cls, instance: PathLike, following: bool = True) -> "Problem":
         """A single-lane tree instance JSON (``visit`` goals; ``following=False`` forbids
@@ -205,6 +211,81 @@ class Result:
         """Writes the plan file (readable by ``mrpp validate/view/render``)."""
         with open(path, "w", encoding="utf-8") as f:
             f.write(self.to_json())
+
+
+class Simulation:
+    """A League of Robot Runners run driven from Python: each step you give one action per
+    robot (and, if you like, each robot's task) and mrpp executes it under the League's rules
+    (the same simulator as ``mrpp solve -P lifelong-pibt``), so a planner or learned policy of
+    your own plays the League's loop::
+
+        problem = mrpp.Problem.lorr("warehouse_small_10.json", lifelong=True, steps=100)
+        sim = problem.simulation()
+        while not sim.done:
+            state = sim.state()                  # robots, open tasks, tasks finished
+            sim.step(my_policy(state), schedule=sim.schedule("greedy"))
+        sim.save("run.json")                     # the League's output JSON
+        mrpp.validate(problem, "run.json")       # or mrpp view / PlanViz
+
+    Actions are letters: under ``MAPF_T`` ``F`` (forward), ``R`` (clockwise), ``C``
+    (counter-clockwise), ``W`` (wait); under ``MAPF`` ``R`` (x + 1), ``U`` (y + 1), ``L``
+    (x - 1), ``D`` (y - 1), ``W`` (the League's viewer PlanViz's letters). A step that breaks a
+    rule (two robots on one cell, a swap, a move into an obstacle) raises ``MrppError`` naming
+    the rule and both robots, and nothing is executed. Orientation: 0 east (x + 1), 1 south
+    (y + 1), 2 west, 3 north."""
+
+    def __init__(self, problem: Problem) -> None:
+        if problem.family != "lifelong":
+            raise MrppError("a Simulation needs a lifelong problem: Problem.lorr(..., lifelong=True)")
+        self.problem = problem
+        self._native = _native.Simulation(problem._json)
+
+    def state(self) -> Dict[str, Any]:
+        """The state now: ``t`` (steps done), ``steps`` (the horizon), ``action_model``,
+        ``robots`` (one dict per robot: ``x``, ``y``, ``orientation``, ``task`` id or None,
+        ``goal`` = its task's next errand ``[x, y]`` or None), ``open_tasks`` (revealed,
+        unfinished: ``id``, ``errands`` as ``[x, y]``, ``done`` errands so far, ``agent`` or
+        None, ``revealed`` step), ``tasks_finished``, ``errands_done``."""
+        return json.loads(self._native.state())
+
+    def grid(self) -> np.ndarray:
+        """The map as a ``(height, width)`` bool array, True on free cells (``[y, x]``)."""
+        w, h, free = self._native.grid()
+        return np.asarray(free, dtype=bool).reshape(h, w)
+
+    @property
+    def done(self) -> bool:
+        """True once the horizon (``steps``) is reached."""
+        st = self.state()
+        return st["t"] >= st["steps"]
+
+    def step(self, actions: Union[str, List[str]],
+             schedule: Optional[List[Optional[int]]] = None) -> None:
+        """Executes one step: ``actions`` one letter per robot (a list, or a string such as
+        ``"FWWR"``); ``schedule`` each robot's task id or None (None keeps the assignment; a
+        refused schedule keeps it too and is recorded, as the League does)."""
+        letters = list(actions) if isinstance(actions, str) else [str(a) for a in actions]
+        self._native.step(letters, None if schedule is None else list(schedule))
+
+    def schedule(self, kind: str = "greedy", time_limit: float = 0.5) -> List[Optional[int]]:
+        """mrpp's proposal of each robot's task: ``greedy`` (the League's start kit's: each free
+        robot takes the nearest open task, never re-assigned) or ``hungarian``."""
+        return self._native.schedule(kind, float(time_limit))
+
+    def to_json(self) -> str:
+        """The run so far as the League's output JSON text."""
+        return self._native.to_json()
+
+    def save(self, path: PathLike) -> None:
+        """Writes the run so far as the League's output JSON (``mrpp validate --lorr P
+        --plan path``, ``mrpp view`` and PlanViz read it)."""
+        with open(path, "w", encoding="utf-8") as f:
+            f.write(self.to_json())
+
+    def __repr__(self) -> str:
+        st = self.state()
+        return (f"Simulation(t={st['t']}/{st['steps']}, robots={len(st['robots'])}, "
+                f"tasks_finished={st['tasks_finished']})")
 
 
 def solve(
