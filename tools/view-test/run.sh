@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
-# Browser tests of `mrpp view`: makes a grid, a continuous, a tree and a formation plan, writes their viewer
-# pages, and checks them in headless Debian Chromium through playwright-core (view-test.mjs).
+# Browser tests of `mrpp view`: makes a grid, a continuous, a tree and a formation plan and a
+# lifelong run, writes their viewer pages, and checks them in headless Debian Chromium through playwright-core (view-test.mjs).
 # Screenshots go to target/view-screenshots/. Installs chromium (apt-get) and playwright-core
 # (npm) when missing; prints `SKIP: ...` and exits 0 when they cannot be installed. Last, a
 # 10,000-agent warehouse plan must open and play (its frame time is printed).
@@ -40,6 +40,15 @@ mkdir -p "$OUT"
 node tools/view-test/view-test.mjs target/view-screenshots \
     "$OUT/grid.html" "$OUT/grid.json" "$OUT/continuous.html" "$OUT/continuous.json" \
     "$OUT/trees.html" "$OUT/trees.json" "$OUT/formation.html" "$OUT/formation.json"
+
+# A lifelong run (League of Robot Runners), under both action models.
+for model in MAPF_T MAPF; do
+    "$MRPP" solve --lorr data/robot-runners/lorr2026-maze/maze-example_40.json --planner lifelong-pibt \
+        --steps 200 --action-model $model --out "$OUT/lifelong-$model.json" >/dev/null
+    "$MRPP" view --lorr data/robot-runners/lorr2026-maze/maze-example_40.json --plan "$OUT/lifelong-$model.json" \
+        --out "$OUT/lifelong-$model.html" >/dev/null
+    node tools/view-test/view-test.mjs --lifelong target/view-screenshots "$OUT/lifelong-$model.html" "$OUT/lifelong-$model.json"
+done
 
 # 10,000 agents on warehouse-20-40-10-2-2: the page must open and play; the frame time is printed.
 "$MRPP" gen scen --map data/movingai/warehouse-20-40-10-2-2.map --agents 10000 --seed 0 --out "$OUT/warehouse-10k.scen" >/dev/null

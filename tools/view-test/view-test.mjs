@@ -34,6 +34,81 @@ if (process.argv[2] === "--perf") {
   process.exit(r.agents > 0 && r.ms < 1000 ? 0 : 1);
 }
 
+// `--lifelong OUT_DIR PAGE.html RUN.json`: a lifelong run's page (RUN.json: the League of Robot
+// Runners' output). The robots' cells and headings the page shows at t = 0, mid and end must be
+// a replay of the output's own actions from its starts (done here, independently), its
+// tasks-finished series must rise to numTaskFinished, and the chart must be drawn.
+if (process.argv[2] === "--lifelong") {
+  const [outDir, pagePath, runPath] = process.argv.slice(3);
+  mkdirSync(outDir, { recursive: true });
+  const run = JSON.parse(readFileSync(runPath, "utf8"));
+  const rotations = run.actionModel === "MAPF_T";
+  const step = [[1, 0], [0, 1], [-1, 0], [0, -1]];
+  const letters = run.actualPaths.map(p => (p ? p.split(",") : []));
+  const states = [run.start.map(([row, col, o]) => [col, row, "ESWN".indexOf(o)])];
+  for (let t = 0; t < letters[0].length; t++) {
+    states.push(states[t].map(([x, y, o], i) => {
+      const a = letters[i][t];
+      if (rotations) {
+        if (a === "F") return [x + step[o][0], y + step[o][1], o];
+        if (a === "R") return [x, y, (o + 1) % 4];
+        if (a === "C") return [x, y, (o + 3) % 4];
+        return [x, y, o];
+      }
+      const d = { R: 0, U: 1, L: 2, D: 3 }[a];
+      return d === undefined ? [x, y, o] : [x + step[d][0], y + step[d][1], o];
+    }));
+  }
+  const browser = await chromium.launch({
+    executablePath: process.env.CHROMIUM || "/usr/bin/chromium",
+    args: ["--no-sandbox", "--disable-gpu", "--disable-background-networking",
+      "--disable-component-update", "--disable-sync", "--no-first-run", "--disable-quic"],
+  });
+  const page = await browser.newPage({ viewport: { width: 1000, height: 700 } });
+  const errors = [];
+  page.on("pageerror", e => errors.push(String(e)));
+  await page.goto(pathToFileURL(pagePath).href);
+  await page.waitForFunction(() => window.mrppView !== undefined);
+  const steps = await page.evaluate(() => window.mrppView.steps);
+  const series = await page.evaluate(() => window.mrppView.scene.series.values);
+  const bad = [...errors];
+  if (steps !== states.length - 1) bad.push(`page has ${steps} steps, the run ${states.length - 1}`);
+  if (series.length !== states.length || series.some((v, k) => k && v < series[k - 1])
+      || series[series.length - 1] !== Number(run.numTaskFinished)) {
+    bad.push(`series ends at ${series[series.length - 1]}, numTaskFinished ${run.numTaskFinished}`);
+  }
+  for (const [label, t] of [["start", 0], ["mid", Math.floor(steps / 2)], ["end", steps]]) {
+    const got = await page.evaluate(t => {
+      const v = window.mrppView;
+      v.setTime(t);
+      // Pixels of the chart's line colour in the bottom-right corner.
+      const c = document.getElementById("canvas"), dpr = window.devicePixelRatio || 1;
+      const [w, h] = [c.width, c.height], box = Math.round(250 * dpr);
+      const d = c.getContext("2d").getImageData(w - box, h - box, box, box).data;
+      let line = 0;
+      for (let k = 0; k < d.length; k += 4) {
+        if (Math.abs(d[k] - 21) < 30 && Math.abs(d[k + 1] - 101) < 30 && Math.abs(d[k + 2] - 192) < 30) line++;
+      }
+      return { pos: v.positions(t), headings: v.headings(t), goals: v.goals(t), line };
+    }, t);
+    states[t].forEach(([x, y, o], i) => {
+      const [px, py] = got.pos[i];
+      if (Math.abs(px - x - 0.5) > 1e-9 || Math.abs(py - y - 0.5) > 1e-9) {
+        bad.push(`t=${t} robot ${i}: page ${JSON.stringify(got.pos[i])}, replay [${x + 0.5}, ${y + 0.5}]`);
+      }
+      if (rotations && got.headings[i] !== o) bad.push(`t=${t} robot ${i}: heading ${got.headings[i]}, replay ${o}`);
+    });
+    if (got.line < 20) bad.push(`t=${t}: the tasks-finished chart is not drawn (${got.line} pixels)`);
+    if (t > 0 && !got.goals.some(g => g)) bad.push(`t=${t}: no robot shows a goal`);
+    const shot = `${outDir}/${basename(pagePath, ".html")}-${label}.png`;
+    await page.screenshot({ path: shot });
+    console.log(`${bad.length ? "FAIL" : "ok  "} ${basename(pagePath)} t=${t} (${label}): ${states[0].length} robots -> ${shot}`);
+  }
+  await browser.close();
+  if (bad.length) console.log("  " + bad.slice(0, 8).join("\n  "));
+  process.exit(bad.length ? 1 : 0);
+}
+
 const [outDir, ...pairs] = process.argv.slice(2);
 if (!outDir || pairs.length === 0 || pairs.length % 2) {
   console.error("usage: node view-test.mjs OUT_DIR PAGE.html PLAN.json [...]");

@@ -251,9 +251,11 @@ fn read_plan(inputs: &Inputs, plan_path: &Path) -> Result<ReadPlan<LifelongProbl
 }
 
 /// The viewer's scene of a lifelong run ([`crate::view`]; also `render --out run.gif`): the grid,
-/// each robot's cell at every step (replayed under the kit's rules), its start, and as its goal
-/// the errand it was heading for at the end. Orientation, task ids and the tasks-finished curve
-/// are not drawn yet.
+/// each robot's cell at every step (replayed under the kit's rules), its start, as its goal the
+/// errand it was heading for at the end, and the lifelong parts (change lists, `[step, ...]`,
+/// each entry holding from its step on): `headings` `[t, orientation]` (0 east, 1 south, 2 west,
+/// 3 north; `MAPF_T` only), `goals` `[t, cell or -1, task id or -1]` (the next errand of the
+/// robot's task), and the scene's `series` of tasks finished after each step.
 fn scene(inputs: &Inputs, plan: &Path) -> Result<Value, Fail> {
     let read = read_plan(inputs, plan)?;
     let problem = &read.problem;
@@ -268,10 +270,28 @@ fn scene(inputs: &Inputs, plan: &Path) -> Result<Value, Fail> {
         json!([f64::from(x) + 0.5, f64::from(y) + 0.5])
     };
     let mut cells: Vec<Vec<u64>> = problem.starts().iter().map(|&v| vec![cell(v)]).collect();
+    let rotations = problem.model() == mrpp_lifelong::ActionModel::MapfT;
+    let mut headings: Vec<Vec<[i64; 2]>> = vec![vec![[0, 0]]; n];
+    let mut goal_changes: Vec<Vec<[i64; 3]>> = vec![vec![[0, -1, -1]]; n];
+    let mut finished = vec![0usize];
     let replayed = mrpp_lifelong::problem::replay(problem, &read.plan, |sim| {
-        for (c, s) in cells.iter_mut().zip(&sim.states) {
+        let t = i64::from(sim.t);
+        for (i, (c, s)) in cells.iter_mut().zip(&sim.states).enumerate() {
             c.push(cell(s.vertex));
+            let o = i64::from(s.orientation);
+            if rotations && headings[i].last().is_some_and(|h| h[1] != o) {
+                headings[i].push([t, o]);
+            }
+            let goal = sim.goal(i).map_or(-1, |v| cell(v) as i64);
+            let task = sim.assignment[i].map_or(-1, |k| k as i64);
+            if goal_changes[i]
+                .last()
+                .is_some_and(|g| g[1] != goal || g[2] != task)
+            {
+                goal_changes[i].push([t, goal, task]);
+            }
         }
+        finished.push(sim.finished);
     });
     let (verdict, goals) = match replayed {
         Ok(sim) => {
@@ -290,12 +310,17 @@ fn scene(inputs: &Inputs, plan: &Path) -> Result<Value, Fail> {
     };
     let agents: Vec<Value> = (0..n)
         .map(|i| {
-            json!({
+            let mut a = json!({
                 "radius": 0.38,
                 "start": centre(problem.starts()[i]),
                 "goal": goals[i],
                 "cells": cells[i],
-            })
+                "goals": goal_changes[i],
+            });
+            if rotations {
+                a["headings"] = json!(headings[i]);
+            }
+            a
         })
         .collect();
     let rows = crate::grid_family::scene_rows(map);
@@ -308,6 +333,7 @@ fn scene(inputs: &Inputs, plan: &Path) -> Result<Value, Fail> {
         "cells": {"width": map.width(), "height": map.height(), "rows": rows},
         "polygons": [],
         "agents": agents,
+        "series": {"name": "tasks finished", "values": finished},
         "verdict": verdict,
     }))
 }

@@ -10,7 +10,10 @@
 //!   "polygons": [[[x, y], ...], ...],    obstacles
 //!   "segments": [[[x, y], [x, y]], ...], "nodes": [[x, y], ...]   graphs (trees): edges, nodes
 //!   "agents": [{"radius", "start": [x, y], "goal": [x, y], "path": [[x, y], ...]}],
-//!             grids give "cells": [y * width + x, ...] instead of "path" (cell centres)
+//!             grids give "cells": [y * width + x, ...] instead of "path" (cell centres);
+//!             lifelong runs add change lists, each entry holding from its step on:
+//!             "goals": [[t, cell or -1, task id or -1], ...], "headings": [[t, 0..3], ...]
+//!   "series": {"name", "values": [one per step]}   drawn as a small chart (lifelong: tasks finished)
 //!   "verdict": {"valid": true, "metrics": {...}} | {"valid": false, "text", "conflict"?: {"t", "agents", "at"}} }
 //! ```
 //!
