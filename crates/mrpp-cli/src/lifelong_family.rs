@@ -11,6 +11,7 @@ use std::time::Duration;
 
 use serde_json::{Map, Value, json};
 
+use mrpp_bench::report::{Panel, Series, line_panels};
 use mrpp_core::Problem;
 use mrpp_core::mapf::plan_file::RunInfo;
 use mrpp_lifelong::lorr_output::{from_json, model_of, to_json};
@@ -32,7 +33,7 @@ pub(crate) static LIFELONG: Def<LifelongProblem> = Def {
     load,
     read_plan,
     info: Some(info),
-    render: None,
+    render: Some(render),
     scene: Some(scene),
     lacam: false,
 };
@@ -336,6 +337,54 @@ fn scene(inputs: &Inputs, plan: &Path) -> Result<Value, Fail> {
         "series": {"name": "tasks finished", "values": finished},
         "verdict": verdict,
     }))
+}
+
+/// Steps over which `render`'s throughput panel averages.
+const THROUGHPUT_WINDOW: usize = 20;
+
+/// `mrpp render` of a lifelong run: its throughput figure (SVG), two panels over the steps: tasks
+/// finished so far, and tasks finished per step (the mean over the last [`THROUGHPUT_WINDOW`]
+/// steps), from a replay of the run under the kit's rules.
+fn render(inputs: &Inputs, plan: &Path) -> Result<String, Fail> {
+    let read = read_plan(inputs, plan)?;
+    let problem = &read.problem;
+    let mut finished = vec![0usize];
+    mrpp_lifelong::problem::replay(problem, &read.plan, |sim| finished.push(sim.finished))
+        .map_err(|v| Fail(format!("{}: {v}", plan.display())))?;
+    // At most about 150 points a line (the figure draws a marker on each), the last step kept.
+    let last = finished.len() - 1;
+    let stride = last.div_ceil(150).max(1);
+    let at = |from: usize| (from..=last).filter(move |t| t % stride == 0 || *t == last);
+    let cumulative = at(0).map(|t| (t as f64, finished[t] as f64)).collect();
+    let w = THROUGHPUT_WINDOW.min(last).max(1);
+    let rate = at(w)
+        .map(|t| (t as f64, (finished[t] - finished[t - w]) as f64 / w as f64))
+        .collect();
+    let name = read.about.clone();
+    let series = |points| Series {
+        name: name.clone(),
+        points,
+        ..Series::default()
+    };
+    let panels = [
+        Panel {
+            title: "tasks finished so far".into(),
+            series: vec![series(cumulative)],
+        },
+        Panel {
+            title: format!("tasks finished per step (mean of the last {w})"),
+            series: vec![series(rate)],
+        },
+    ];
+    let title = format!(
+        "{} | {} robots | {} tasks finished in {} steps",
+        file_name(&problem.files().path),
+        problem.num_agents(),
+        finished[last],
+        last
+    );
+    line_panels(&title, "step", "tasks", &panels)
+        .map_err(|e| Fail(format!("{}: {e}", plan.display())))
 }
 
 fn info(inputs: &Inputs) -> Result<u8, Fail> {

@@ -283,6 +283,31 @@ fn a_lifelong_run_can_be_watched() {
     // 40 robots, 31 positions each (start and 30 steps).
     let start = html.find(r#""agents":"#).unwrap();
     assert_eq!(html[start..].matches(r#""cells":["#).count(), 40);
+    // The throughput figure: its title recounts the run's tasks, a panel per view of them.
+    let finished =
+        serde_json::from_str::<serde_json::Value>(&std::fs::read_to_string(&run).unwrap()).unwrap()
+            ["numTaskFinished"]
+            .clone();
+    let figure = dir.join("throughput.svg");
+    let (code, _, err) = mrpp(&[
+        "render",
+        "--lorr",
+        MAZE,
+        "--plan",
+        run.to_str().unwrap(),
+        "-o",
+        figure.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    let svg = std::fs::read_to_string(&figure).unwrap();
+    assert!(
+        svg.contains(&format!(
+            "40 robots | {finished} tasks finished in 30 steps"
+        )),
+        "{}",
+        &svg[..svg.len().min(600)]
+    );
+    assert!(svg.contains("tasks finished so far") && svg.contains("tasks finished per step"));
     std::fs::remove_dir_all(&dir).unwrap();
 }
 
