@@ -611,3 +611,106 @@ mod tests {
         let _ = std::fs::remove_file(&path);
     }
 }
+
+/// A path (or any word) quoted for `sh -c`.
+pub fn shell_quote(s: &str) -> String {
+    format!("'{}'", s.replace('\'', "'\\''"))
+}
+
+/// What a peer's command did ([`run_peer_command`]).
+#[derive(Debug)]
+pub enum PeerRun {
+    /// It could not start, exited non-zero, or wrote no result: the command is broken, not the
+    /// peer's answer. `note` gives the exit status and the first lines of its stderr.
+    Failed { note: String, wall_ms: f64 },
+    /// Killed at the limit (with everything it started).
+    Killed { wall_ms: f64 },
+    /// It exited 0 and wrote `text` to its result file.
+    Done { text: String, wall_ms: f64 },
+}
+
+/// Runs a peer's `command` with `sh -c` in its own process group (stdin and stdout closed,
+/// stderr to `stderr_path`) until it ends or `limit` passes, when the whole group is killed;
+/// it must write its result to `out`.
+pub fn run_peer_command(
+    command: &str,
+    out: &std::path::Path,
+    stderr_path: &std::path::Path,
+    limit: std::time::Duration,
+) -> PeerRun {
+    use std::os::unix::process::CommandExt as _;
+    let started = std::time::Instant::now();
+    // `Ok(Some(status))` when it ended, `Ok(None)` when it was killed at the limit.
+    let finished: std::io::Result<Option<std::process::ExitStatus>> = (|| {
+        let stderr = std::fs::File::create(stderr_path)?;
+        std::process::Command::new("sh")
+            .arg("-c")
+            .arg(command)
+            .process_group(0)
+            .stdin(std::process::Stdio::null())
+            .stdout(std::process::Stdio::null())
+            .stderr(stderr)
+            .spawn()
+            .map(|mut child| {
+                loop {
+                    match child.try_wait() {
+                        Ok(Some(status)) => break Some(status),
+                        Ok(None) if started.elapsed() < limit => {
+                            std::thread::sleep(std::time::Duration::from_millis(5))
+                        }
+                        _ => {
+                            let _ = std::process::Command::new("kill")
+                                .args(["-KILL", "--", &format!("-{}", child.id())])
+                                .status();
+                            let _ = child.kill();
+                            let _ = child.wait();
+                            break None;
+                        }
+                    }
+                }
+            })
+    })();
+    let wall_ms = started.elapsed().as_secs_f64() * 1e3;
+    let text = std::fs::read_to_string(out).ok();
+    let stderr = std::fs::read_to_string(stderr_path).unwrap_or_default();
+    let status = match finished {
+        Err(e) => {
+            return PeerRun::Failed {
+                note: format!("cannot start `sh -c {command}`: {e}"),
+                wall_ms,
+            };
+        }
+        Ok(None) => return PeerRun::Killed { wall_ms },
+        Ok(Some(status)) => status,
+    };
+    match text.filter(|_| status.success()) {
+        Some(text) => PeerRun::Done { text, wall_ms },
+        None => {
+            let what = match status.code() {
+                Some(c) => format!("exit {c}"),
+                None => "killed by a signal".into(),
+            };
+            let first: Vec<&str> = stderr
+                .lines()
+                .filter(|l| !l.trim().is_empty())
+                .take(3)
+                .collect();
+            PeerRun::Failed {
+                note: format!(
+                    "{what}{}{}",
+                    if status.success() {
+                        ", no result file"
+                    } else {
+                        ""
+                    },
+                    if first.is_empty() {
+                        String::new()
+                    } else {
+                        format!(": {}", first.join(" / "))
+                    }
+                ),
+                wall_ms,
+            }
+        }
+    }
+}

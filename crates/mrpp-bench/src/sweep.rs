@@ -46,7 +46,9 @@ use std::time::Duration;
 
 use serde::{Deserialize, Serialize};
 
-use crate::harness::{Manifest, RunRecord, Sweep, params_text};
+use crate::harness::{
+    Manifest, PeerRun, RunRecord, Sweep, params_text, run_peer_command, shell_quote,
+};
 use mrpp_core::error::{Error, Result, read_file};
 use mrpp_core::registry::find;
 use mrpp_core::seeds::derive_seed;
@@ -134,10 +136,6 @@ impl PeerSpec {
 }
 
 /// `s` quoted for `sh`.
-fn shell_quote(s: &str) -> String {
-    format!("'{}'", s.replace('\'', "'\\''"))
-}
-
 fn default_name() -> String {
     "bench".into()
 }
@@ -760,76 +758,13 @@ impl GridSweep {
         ] {
             command = command.replace(&format!("{{{k}}}"), &v);
         }
-        let started = std::time::Instant::now();
         let limit = Duration::from_secs_f64(self.cfg.time_limit * 2.0 + 10.0);
-        // Its own process group, so that a timeout kills whatever the command started.
-        // `Ok(Some(status))` when it ended, `Ok(None)` when it was killed at the limit.
-        let finished: std::io::Result<Option<std::process::ExitStatus>> = (|| {
-            use std::os::unix::process::CommandExt as _;
-            let stderr = std::fs::File::create(&stderr_path)?;
-            std::process::Command::new("sh")
-                .arg("-c")
-                .arg(&command)
-                .process_group(0)
-                .stdin(std::process::Stdio::null())
-                .stdout(std::process::Stdio::null())
-                .stderr(stderr)
-                .spawn()
-                .map(|mut child| {
-                    loop {
-                        match child.try_wait() {
-                            Ok(Some(status)) => break Some(status),
-                            Ok(None) if started.elapsed() < limit => {
-                                std::thread::sleep(Duration::from_millis(5))
-                            }
-                            _ => {
-                                let _ = std::process::Command::new("kill")
-                                    .args(["-KILL", "--", &format!("-{}", child.id())])
-                                    .status();
-                                let _ = child.kill();
-                                let _ = child.wait();
-                                break None;
-                            }
-                        }
-                    }
-                })
-        })();
-        let wall_ms = started.elapsed().as_secs_f64() * 1e3;
-        let text = std::fs::read_to_string(&out).ok();
-        let stderr = std::fs::read_to_string(&stderr_path).unwrap_or_default();
+        let ran = run_peer_command(&command, &out, &stderr_path, limit);
         let _ = std::fs::remove_dir_all(&dir);
-        let status = match finished {
-            Err(e) => return failed(format!("cannot start `sh -c {command}`: {e}"), wall_ms),
-            Ok(None) => return record("time_limit", None, wall_ms),
-            Ok(Some(status)) => status,
-        };
-        let Some(text) = text.filter(|_| status.success()) else {
-            // No result, or a non-zero exit: the command is broken, not the peer's answer.
-            let what = match status.code() {
-                Some(c) => format!("exit {c}"),
-                None => "killed by a signal".into(),
-            };
-            let first: Vec<&str> = stderr
-                .lines()
-                .filter(|l| !l.trim().is_empty())
-                .take(3)
-                .collect();
-            return failed(
-                format!(
-                    "{what}{}{}",
-                    if status.success() {
-                        ", no result file"
-                    } else {
-                        ""
-                    },
-                    if first.is_empty() {
-                        String::new()
-                    } else {
-                        format!(": {}", first.join(" / "))
-                    }
-                ),
-                wall_ms,
-            );
+        let (text, wall_ms) = match ran {
+            PeerRun::Failed { note, wall_ms } => return failed(note, wall_ms),
+            PeerRun::Killed { wall_ms } => return record("time_limit", None, wall_ms),
+            PeerRun::Done { text, wall_ms } => (text, wall_ms),
         };
         // A peer's own runtime, when it is a sane number of milliseconds.
         let runtime_ms = text

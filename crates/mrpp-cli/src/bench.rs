@@ -7,7 +7,7 @@ use mrpp_bench::Shard;
 use mrpp_bench::sweep::{GridSweep, InstanceSpec, PeerSpec, PlannerSpec, SweepConfig};
 
 use crate::output::Fail;
-use crate::sweeps::{Mode, drive};
+use crate::sweeps::{Mode, drive_on};
 
 #[derive(clap::Subcommand)]
 pub(crate) enum Bench {
@@ -137,15 +137,6 @@ pub(crate) fn run(args: RunArgs, merge: Option<Mode>) -> Result<u8, Fail> {
     );
     let seed = cfg.seed;
     let sweep = GridSweep::new(cfg)?;
-    let jobs = args.jobs;
     let mode = merge.unwrap_or(Mode::run(args.shard, args.out));
-    match jobs {
-        Some(n) if (1..=1024).contains(&n) => rayon::ThreadPoolBuilder::new()
-            .num_threads(n)
-            .build()
-            .map_err(|e| Fail(format!("cannot start {n} worker threads: {e}")))?
-            .install(|| drive(&sweep, &mode, seed, "runs")),
-        Some(n) => Err(Fail(format!("--jobs must be between 1 and 1024, got {n}"))),
-        None => drive(&sweep, &mode, seed, "runs"),
-    }
+    drive_on(&sweep, &mode, seed, "runs", args.jobs)
 }

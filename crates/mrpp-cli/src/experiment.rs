@@ -9,6 +9,7 @@ use std::time::Duration;
 use clap::{Subcommand, ValueEnum};
 
 use mrpp_bench::Shard;
+use mrpp_bench::lorr::{LorrConfig, LorrSweep};
 use mrpp_bench::papers::ga_formation::{FormationConfig, GaFormation};
 use mrpp_bench::papers::gp_trees::{GpExperimentConfig, GpTable3, GpTable4, GpTable5};
 use mrpp_bench::papers::hbmo_navigation::{HbmoConfig, HbmoNavigation};
@@ -17,7 +18,7 @@ use mrpp_bench::papers::hstar_table2::{Table2, Table2Config, table2_methods};
 
 use crate::embedded::{self, data_dir};
 use crate::output::{Fail, seconds, time_limit};
-use crate::sweeps::{Mode, drive};
+use crate::sweeps::{Mode, drive, drive_on};
 
 #[derive(Clone, Copy, ValueEnum)]
 pub enum Sc2Map {
@@ -67,6 +68,56 @@ pub enum Experiment {
         after_help = "Examples (from the repository's root):\n  mrpp experiment hbmo --runs 5 -o out/hbmo\n  mrpp experiment hbmo --runs 30 --planners hbmo,orca -p guide=goal -o out/hbmo-goal"
     )]
     Hbmo(HbmoArgs),
+    /// League of Robot Runners problems run lifelong: lifelong-pibt per scheduler x guidance x
+    /// run, and optionally a peer program (the League's start kit) on the same files, in tasks
+    /// finished; every run replayed by the lifelong validator.
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp experiment lorr data/robot-runners/lorr2026-maze/maze-example_40.json --steps 500 --schedulers greedy,hungarian -o out/lorr\n  mrpp experiment lorr example_problems/*/*.json --steps 1000 --jobs 1 --peer 'kit=cd /path/Start-Kit && ./build/lifelong -i {problem} -o {out} --simulationTime {steps} --planTimeLimit {step_ms} --preprocessTimeLimit {preprocess_ms}' -o out/lorr-1000\n\nThe peer's placeholders: {problem} {steps} {step_ms} {preprocess_ms} {out} (the League's output JSON it must write). Runs go in parallel on the machine's cores; --jobs 1 runs them one at a time (each run is timed per step)."
+    )]
+    Lorr(LorrArgs),
+}
+
+#[derive(clap::Args)]
+pub struct LorrArgs {
+    /// League of Robot Runners problem JSON files (any start-kit layout).
+    #[arg(required = true)]
+    problems: Vec<PathBuf>,
+    /// Horizon in steps.
+    #[arg(long, default_value_t = 1000, allow_negative_numbers = true, value_parser = crate::output::parse_count)]
+    steps: usize,
+    /// Planning time per step, in seconds.
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    step_time_limit: f64,
+    /// Time before step 0, in seconds.
+    #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
+    preprocess_time_limit: f64,
+    /// MAPF_T (orientation, the League's) or MAPF.
+    #[arg(long, default_value = "MAPF_T")]
+    action_model: String,
+    /// lifelong-pibt's schedulers to run (comma-separated).
+    #[arg(long, value_delimiter = ',', default_value = "greedy,hungarian")]
+    schedulers: Vec<String>,
+    /// lifelong-pibt's guidance values to run (comma-separated).
+    #[arg(long, value_delimiter = ',', default_value = "auto")]
+    guidance: Vec<String>,
+    /// Runs (seeds) per configuration.
+    #[arg(allow_negative_numbers = true, value_parser = crate::output::parse_count, long, default_value_t = 1)]
+    runs: usize,
+    #[arg(short = 's', long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
+    seed: u64,
+    /// A peer program, `name=command template` (see the placeholders below), run once per problem.
+    #[arg(long)]
+    peer: Option<mrpp_bench::sweep::PeerSpec>,
+    /// Output directory (results.csv, lorr.md, throughput.svg, records.csv, manifest.json).
+    #[arg(short = 'o', long, default_value = "out/lorr")]
+    out: PathBuf,
+    /// Run only shard i of N (`i/N`); `mrpp bench merge` joins the parts.
+    #[arg(long)]
+    shard: Option<Shard>,
+    /// Runs at a time (default: one per core); `--jobs 1` runs them one at a time, so each
+    /// run's time per step is its own.
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::output::parse_count)]
+    jobs: Option<usize>,
 }
 
 #[derive(clap::Args)]
@@ -290,6 +341,32 @@ pub fn run(cmd: Experiment, merge: Option<Mode>) -> Result<u8, Fail> {
             let (data, _unpacked) = data_dir(a.data.clone(), &embedded::CONTINUOUS)?;
             let experiment = HbmoNavigation::new(cfg, &data)?;
             drive(&experiment, &mode, a.seed, "runs")
+        }
+        Experiment::Lorr(a) => {
+            let model = mrpp_lifelong::ActionModel::parse(&a.action_model).ok_or_else(|| {
+                Fail(format!(
+                    "--action-model {}: expected MAPF_T or MAPF",
+                    a.action_model
+                ))
+            })?;
+            let steps = u32::try_from(a.steps)
+                .ok()
+                .filter(|&s| (1..=10_000_000).contains(&s))
+                .ok_or_else(|| Fail(format!("--steps {}: expected 1 to 10000000", a.steps)))?;
+            let cfg = LorrConfig {
+                seed: a.seed,
+                problems: a.problems.clone(),
+                steps,
+                step_time: seconds("step-time-limit", a.step_time_limit)?,
+                preprocess_time: seconds("preprocess-time-limit", a.preprocess_time_limit)?,
+                model,
+                schedulers: a.schedulers.clone(),
+                guidance: a.guidance.clone(),
+                runs: a.runs,
+                peer: a.peer.clone(),
+            };
+            let mode = merge.unwrap_or(Mode::run(a.shard, a.out.clone()));
+            drive_on(&LorrSweep::new(cfg)?, &mode, a.seed, "runs", a.jobs)
         }
     }
 }

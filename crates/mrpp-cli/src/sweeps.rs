@@ -36,6 +36,28 @@ impl Mode {
     }
 }
 
+/// [`drive`] on `jobs` worker threads (`None`: one per core).
+///
+/// # Errors
+/// `jobs` outside 1..=1024, or what [`drive`] returns.
+pub(crate) fn drive_on<S: Sweep>(
+    sweep: &S,
+    mode: &Mode,
+    seed: u64,
+    unit: &'static str,
+    jobs: Option<usize>,
+) -> Result<u8, Fail> {
+    match jobs {
+        Some(n) if (1..=1024).contains(&n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(|e| Fail(format!("cannot start {n} worker threads: {e}")))?
+            .install(|| drive(sweep, mode, seed, unit)),
+        Some(n) => Err(Fail(format!("--jobs must be between 1 and 1024, got {n}"))),
+        None => drive(sweep, mode, seed, unit),
+    }
+}
+
 /// Runs `sweep` as `mode` says, writes its files atomically (all computed first), prints the
 /// summary of a whole sweep and what was written.
 pub(crate) fn drive<S: Sweep>(

@@ -346,3 +346,68 @@ fn a_run_cut_by_the_time_limit_keeps_its_steps_and_says_so() {
     assert_eq!(code, Some(0), "the steps done are a valid run: {err}");
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn an_experiment_runs_lifelong_problems_beside_a_peer_and_reports_a_broken_one() {
+    let dir = tmp("experiment");
+    // The peer is mrpp itself writing the League's output JSON, run as an external command; a
+    // second, broken peer must show up as peer_failed with its exit status, never as a result.
+    let exe = env!("CARGO_BIN_EXE_mrpp");
+    for (peer, out) in [
+        (
+            format!(
+                "self={exe} -q solve --lorr {{problem}} -P lifelong-pibt --steps {{steps}} -s 9 -o {{out}}"
+            ),
+            "ok",
+        ),
+        (
+            "broken=sh -c 'echo no such kit >&2; exit 3' {problem} {out}".to_string(),
+            "broken",
+        ),
+    ] {
+        let out_dir = dir.join(out);
+        let (code, _, err) = mrpp(&[
+            "experiment",
+            "lorr",
+            MAZE,
+            WAREHOUSE,
+            "--steps",
+            "40",
+            "--schedulers",
+            "greedy",
+            "--runs",
+            "2",
+            "--peer",
+            &peer,
+            "-o",
+            out_dir.to_str().unwrap(),
+        ]);
+        assert_eq!(code, Some(0), "{err}");
+        let csv = std::fs::read_to_string(out_dir.join("results.csv")).unwrap();
+        let rows: Vec<Vec<&str>> = csv
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').collect())
+            .collect();
+        // Per problem: the peer once, lifelong-pibt greedy twice.
+        assert_eq!(rows.len(), 6, "{csv}");
+        for r in &rows {
+            let (program, status, tasks) = (r[3], r[8], r[9]);
+            if program == "lifelong-pibt" || out == "ok" {
+                assert_eq!(status, "valid", "{csv}");
+                assert!(tasks.parse::<u64>().unwrap() > 0, "{csv}");
+            } else {
+                assert_eq!(status, "peer_failed", "{csv}");
+                assert!(r[17..].join(",").contains("exit 3: no such kit"), "{csv}");
+            }
+        }
+        let page = std::fs::read_to_string(out_dir.join("lorr.md")).unwrap();
+        assert!(page.contains("| maze-example_40 | 40 |"), "{page}");
+        assert!(
+            std::fs::read_to_string(out_dir.join("throughput.svg"))
+                .unwrap()
+                .contains("<svg")
+        );
+    }
+    std::fs::remove_dir_all(&dir).unwrap();
+}
