@@ -1,7 +1,8 @@
 //! Breadth-first distance tables to errand cells, built the first time a cell is asked for and
 //! kept while they fit a memory budget (the start kit's default planner keeps one per target
-//! too, `get_h` in `default_planner/heuristics.cpp`). Distances ignore orientation; the planners
-//! add turns.
+//! too, `get_h` in `default_planner/heuristics.cpp`). [`Distances`] count moves and ignore
+//! orientation; [`TurnDistances`] count `MAPF_T` actions (moves and quarter turns) from each
+//! (cell, orientation) state.
 //!
 //! A table takes 2 bytes per vertex (4 on graphs of 65,535 vertices or more). When the tables
 //! would exceed the budget (default [`DEFAULT_BUDGET`]), the one used longest ago is dropped and
@@ -33,90 +34,10 @@ impl Table {
     }
 }
 
-/// Distance tables by target vertex, least recently used dropped beyond the budget.
-#[derive(Debug)]
-pub struct Distances {
-    tables: Vec<Option<(Table, u64)>>,
-    live: Vec<VertexId>,
-    max_tables: usize,
-    clock: u64,
-    built: usize,
-}
-
-impl Distances {
-    /// No table yet, for a graph of `vertices` vertices, at most `budget` bytes of tables (at
-    /// least one table).
-    pub fn new(vertices: usize, budget: usize) -> Self {
-        let per_table = vertices.max(1) * if vertices < u16::MAX as usize { 2 } else { 4 };
-        Distances {
-            tables: (0..vertices).map(|_| None).collect(),
-            live: Vec::new(),
-            max_tables: (budget / per_table).max(1),
-            clock: 0,
-            built: 0,
-        }
-    }
-
-    /// Hop distance from `from` to `to` ([`UNREACHABLE`] in another component).
-    pub fn get(&mut self, graph: &Graph, from: VertexId, to: VertexId) -> u32 {
-        self.ensure(graph, to);
-        self.tables[to as usize]
-            .as_ref()
-            .expect("built")
-            .0
-            .get(from)
-    }
-
-    /// Hop distances to `to` from each of `from`, in order (one table look-up).
-    pub fn to(&mut self, graph: &Graph, to: VertexId, from: &[VertexId], out: &mut Vec<u32>) {
-        self.ensure(graph, to);
-        let table = &self.tables[to as usize].as_ref().expect("built").0;
-        out.clear();
-        out.extend(from.iter().map(|&v| table.get(v)));
-    }
-
-    /// Builds the tables of `targets` not built yet, in order, until one of `deadlines` passes or
-    /// the budget is full (the kit's preprocessing); returns how many tables are live.
-    pub fn warm(&mut self, graph: &Graph, targets: &[VertexId], deadlines: &[Deadline]) -> usize {
-        for &t in targets {
-            if self.live.len() >= self.max_tables || deadlines.iter().any(Deadline::expired) {
-                break;
-            }
-            self.ensure(graph, t);
-        }
-        self.live.len()
-    }
-
-    /// Tables built so far (rebuilt ones counted again).
-    pub fn built(&self) -> usize {
-        self.built
-    }
-
-    fn ensure(&mut self, graph: &Graph, to: VertexId) {
-        self.clock += 1;
-        if let Some((_, used)) = &mut self.tables[to as usize] {
-            *used = self.clock;
-            return;
-        }
-        if self.live.len() >= self.max_tables {
-            let (pos, _) = self
-                .live
-                .iter()
-                .enumerate()
-                .min_by_key(|(_, v)| self.tables[**v as usize].as_ref().map_or(0, |t| t.1))
-                .expect("at least one table is live");
-            let old = self.live.swap_remove(pos);
-            self.tables[old as usize] = None;
-        }
-        let table = Self::bfs(graph, to);
-        self.tables[to as usize] = Some((table, self.clock));
-        self.live.push(to);
-        self.built += 1;
-    }
-
-    fn bfs(graph: &Graph, source: VertexId) -> Table {
-        let dist = bfs_distances(graph, source);
-        if graph.num_vertices() < u16::MAX as usize {
+impl Table {
+    /// A table of `dist` (entries [`UNREACHABLE`] or below `u16::MAX` when `narrow`).
+    fn of(dist: Vec<u32>, narrow: bool) -> Table {
+        if narrow {
             Table::Narrow(
                 dist.into_iter()
                     .map(|d| if d == UNREACHABLE { u16::MAX } else { d as u16 })
@@ -126,6 +47,194 @@ impl Distances {
             Table::Wide(dist.into_boxed_slice())
         }
     }
+}
+
+/// Tables by target vertex, the least recently used dropped beyond the budget.
+#[derive(Debug)]
+struct Cache {
+    tables: Vec<Option<(Table, u64)>>,
+    live: Vec<VertexId>,
+    max_tables: usize,
+    clock: u64,
+    built: usize,
+}
+
+impl Cache {
+    /// Room for `vertices` targets' tables of `entries` entries each within `budget` bytes (at
+    /// least one table); `narrow` says whether entries take 2 bytes (else 4).
+    fn new(vertices: usize, entries: usize, narrow: bool, budget: usize) -> Self {
+        let per_table = entries.max(1) * if narrow { 2 } else { 4 };
+        Cache {
+            tables: (0..vertices).map(|_| None).collect(),
+            live: Vec::new(),
+            max_tables: (budget / per_table).max(1),
+            clock: 0,
+            built: 0,
+        }
+    }
+
+    /// The table of `to`, built by `build` if it is not live.
+    fn ensure(&mut self, to: VertexId, build: impl FnOnce() -> Table) -> &Table {
+        self.clock += 1;
+        if self.tables[to as usize].is_none() {
+            if self.live.len() >= self.max_tables {
+                let (pos, _) = self
+                    .live
+                    .iter()
+                    .enumerate()
+                    .min_by_key(|(_, v)| self.tables[**v as usize].as_ref().map_or(0, |t| t.1))
+                    .expect("at least one table is live");
+                let old = self.live.swap_remove(pos);
+                self.tables[old as usize] = None;
+            }
+            self.tables[to as usize] = Some((build(), 0));
+            self.live.push(to);
+            self.built += 1;
+        }
+        let (table, used) = self.tables[to as usize].as_mut().expect("built");
+        *used = self.clock;
+        table
+    }
+}
+
+/// Hop-distance tables by target vertex (module doc).
+#[derive(Debug)]
+pub struct Distances {
+    cache: Cache,
+    narrow: bool,
+}
+
+impl Distances {
+    /// No table yet, for a graph of `vertices` vertices, at most `budget` bytes of tables (at
+    /// least one table).
+    pub fn new(vertices: usize, budget: usize) -> Self {
+        let narrow = vertices < u16::MAX as usize;
+        Distances {
+            cache: Cache::new(vertices, vertices, narrow, budget),
+            narrow,
+        }
+    }
+
+    /// Hop distance from `from` to `to` ([`UNREACHABLE`] in another component).
+    pub fn get(&mut self, graph: &Graph, from: VertexId, to: VertexId) -> u32 {
+        self.table(graph, to).get(from)
+    }
+
+    /// Hop distances to `to` from each of `from`, in order (one table look-up).
+    pub fn to(&mut self, graph: &Graph, to: VertexId, from: &[VertexId], out: &mut Vec<u32>) {
+        let table = self.table(graph, to);
+        out.clear();
+        out.extend(from.iter().map(|&v| table.get(v)));
+    }
+
+    /// Builds the tables of `targets` not built yet, in order, until one of `deadlines` passes or
+    /// the budget is full (the kit's preprocessing); returns how many tables are live.
+    pub fn warm(&mut self, graph: &Graph, targets: &[VertexId], deadlines: &[Deadline]) -> usize {
+        for &t in targets {
+            if self.cache.live.len() >= self.cache.max_tables
+                || deadlines.iter().any(Deadline::expired)
+            {
+                break;
+            }
+            self.table(graph, t);
+        }
+        self.cache.live.len()
+    }
+
+    /// Tables built so far (rebuilt ones counted again).
+    pub fn built(&self) -> usize {
+        self.cache.built
+    }
+
+    fn table(&mut self, graph: &Graph, to: VertexId) -> &Table {
+        let narrow = self.narrow;
+        self.cache
+            .ensure(to, || Table::of(bfs_distances(graph, to), narrow))
+    }
+}
+
+/// Rotation-aware distance tables by target vertex: the fewest `MAPF_T` actions (forward one
+/// cell, or a quarter turn) from each (cell, orientation) state until the robot stands on the
+/// target, facing any way. Built by a breadth-first search backwards from the target's four
+/// states, kept like [`Distances`]' tables (4 entries per vertex).
+#[derive(Debug)]
+pub struct TurnDistances {
+    cache: Cache,
+    narrow: bool,
+    /// Neighbour of each vertex in each direction (0 east, 1 south, 2 west, 3 north).
+    next: Vec<[VertexId; 4]>,
+}
+
+impl TurnDistances {
+    /// No table yet for `map`, at most `budget` bytes of tables.
+    pub fn new(map: &mrpp_mapf::GridMap, budget: usize) -> Self {
+        let n = map.graph().num_vertices();
+        let narrow = 4 * n < u16::MAX as usize;
+        TurnDistances {
+            cache: Cache::new(n, 4 * n, narrow, budget),
+            narrow,
+            next: (0..n as VertexId)
+                .map(|v| {
+                    std::array::from_fn(|d| {
+                        crate::model::neighbour(map, v, d as u8).unwrap_or(VertexId::MAX)
+                    })
+                })
+                .collect(),
+        }
+    }
+
+    /// Builds the tables of `targets` not built yet, in order, until one of `deadlines` passes or
+    /// the budget is full; returns how many tables are live.
+    pub fn warm(&mut self, targets: &[VertexId], deadlines: &[Deadline]) -> usize {
+        for &t in targets {
+            if self.cache.live.len() >= self.cache.max_tables
+                || deadlines.iter().any(Deadline::expired)
+            {
+                break;
+            }
+            let (narrow, next) = (self.narrow, &self.next);
+            self.cache
+                .ensure(t, || Table::of(turn_bfs(next, t), narrow));
+        }
+        self.cache.live.len()
+    }
+
+    /// Actions from `v` facing `o` until standing on `to` ([`UNREACHABLE`] in another component).
+    pub fn get(&mut self, v: VertexId, o: u8, to: VertexId) -> u32 {
+        let (narrow, next) = (self.narrow, &self.next);
+        self.cache
+            .ensure(to, || Table::of(turn_bfs(next, to), narrow))
+            .get(4 * v + u32::from(o))
+    }
+}
+
+/// Backward breadth-first search over (vertex, orientation) states from `to`'s four states:
+/// entry `4 v + o` is the fewest actions from (v, o) to `to`.
+fn turn_bfs(next: &[[VertexId; 4]], to: VertexId) -> Vec<u32> {
+    let mut dist = vec![UNREACHABLE; 4 * next.len()];
+    let mut queue = std::collections::VecDeque::new();
+    for o in 0..4 {
+        dist[4 * to as usize + o] = 0;
+        queue.push_back((to, o));
+    }
+    while let Some((v, o)) = queue.pop_front() {
+        let d = dist[4 * v as usize + o] + 1;
+        // Predecessors: the cell behind (forward into v facing o), and the two turns into o.
+        let behind = next[v as usize][(o + 2) % 4];
+        let mut visit = |u: VertexId, p: usize| {
+            let slot = &mut dist[4 * u as usize + p];
+            if *slot == UNREACHABLE {
+                *slot = d;
+                queue.push_back((u, p));
+            }
+        };
+        if behind != VertexId::MAX {
+            visit(behind, o);
+        }
+        visit(v, (o + 3) % 4);
+        visit(v, (o + 1) % 4);
+    }
+    dist
 }
 
 /// A distance that may be [`UNREACHABLE`], plus `extra`, without overflow.
@@ -140,7 +249,50 @@ pub fn plus(d: u32, extra: u32) -> u32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::model::{Action, State, apply};
     use mrpp_mapf::GridMap;
+
+    #[test]
+    fn turn_tables_agree_with_a_forward_search_over_actions() {
+        let map = GridMap::from_free_rows(&[
+            vec![true, true, true, false, true],
+            vec![true, false, true, true, true],
+            vec![true, true, true, false, true],
+        ]);
+        let n = map.graph().num_vertices() as VertexId;
+        // Room for two tables: eviction is exercised too.
+        let mut d = TurnDistances::new(&map, 2 * 4 * n as usize * 2);
+        for to in 0..n {
+            for v in 0..n {
+                for o in 0..4u8 {
+                    // Forward breadth-first search from (v, o) with the model's own actions.
+                    let start = State {
+                        vertex: v,
+                        orientation: o,
+                    };
+                    let mut seen = std::collections::HashMap::from([(start, 0u32)]);
+                    let mut queue = std::collections::VecDeque::from([start]);
+                    let mut truth = UNREACHABLE;
+                    while let Some(s) = queue.pop_front() {
+                        if s.vertex == to {
+                            truth = seen[&s];
+                            break;
+                        }
+                        for a in [Action::Forward, Action::Clockwise, Action::CounterClockwise] {
+                            if let Some(t) = apply(&map, s, a)
+                                && !seen.contains_key(&t)
+                            {
+                                seen.insert(t, seen[&s] + 1);
+                                queue.push_back(t);
+                            }
+                        }
+                    }
+                    assert_eq!(d.get(v, o, to), truth, "from ({v}, {o}) to {to}");
+                }
+            }
+        }
+        assert!(d.cache.live.len() <= 2 && d.cache.built == n as usize);
+    }
 
     #[test]
     fn tables_agree_with_bfs_under_eviction() {
@@ -161,7 +313,7 @@ mod tests {
                 }
             }
         }
-        assert!(d.live.len() <= 2);
+        assert!(d.cache.live.len() <= 2);
         assert!(d.built() > n);
     }
 }

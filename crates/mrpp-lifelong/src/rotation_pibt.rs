@@ -31,7 +31,7 @@ use rand_chacha::ChaCha8Rng;
 
 use mrpp_core::mapf::graph::VertexId;
 
-use crate::distances::Distances;
+use crate::distances::{Distances, TurnDistances, plus};
 use crate::guide_paths::GuidePaths;
 use crate::model::{Action, ActionModel, direction, turns};
 use crate::sim::Simulation;
@@ -95,13 +95,15 @@ impl RotationPibt {
     /// The joint action of one step towards `goals` (one vertex per robot: its next errand, or
     /// its own cell when it has no task). With `guide`, a robot that has a guide path to its
     /// goal ranks its candidates by their distance along that path
-    /// ([`crate::guide_paths`]) instead of their distance to the goal.
+    /// ([`crate::guide_paths`]) instead of their distance to the goal; else, with `turn_tables`
+    /// (`MAPF_T`), by the actions to the goal counting quarter turns ([`TurnDistances`]).
     pub fn step(
         &mut self,
         sim: &Simulation<'_>,
         goals: &[VertexId],
         dist: &mut Distances,
         mut guide: Option<&mut GuidePaths>,
+        mut turn_tables: Option<&mut TurnDistances>,
     ) -> Vec<Action> {
         let problem = sim.problem();
         let map = problem.map();
@@ -137,8 +139,18 @@ impl RotationPibt {
                 d.clear();
                 d.extend(verts.iter().map(|&w| u32::from(w != goal)));
             } else {
-                match guide.as_deref_mut() {
-                    Some(g) if g.follows(i, goal) => g.distances(i, &verts, &mut d),
+                match (guide.as_deref_mut(), turn_tables.as_deref_mut()) {
+                    (Some(g), _) if g.follows(i, goal) => g.distances(i, &verts, &mut d),
+                    (_, Some(td)) => {
+                        // Actions to the goal: staying, the state's own; a neighbour, the turns
+                        // to face it plus the actions from there facing that way.
+                        d.clear();
+                        d.push(td.get(s.vertex, s.orientation, goal));
+                        for &w in &verts[1..] {
+                            let o = direction(map, s.vertex, w).expect("a neighbour");
+                            d.push(plus(td.get(w, o, goal), turns(s.orientation, o)));
+                        }
+                    }
                     _ => dist.to(graph, goal, &verts, &mut d),
                 }
             }

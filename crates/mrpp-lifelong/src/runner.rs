@@ -21,16 +21,16 @@ use std::time::{Duration, Instant};
 use mrpp_core::mapf::graph::VertexId;
 use mrpp_core::{Ctx, Deadline, Param, Planner, PlannerEntry, Progress, Unsolved};
 
-use crate::distances::{DEFAULT_BUDGET, Distances};
+use crate::distances::{DEFAULT_BUDGET, Distances, TurnDistances};
 use crate::guide_paths::GuidePaths;
-use crate::model::Action;
+use crate::model::{Action, ActionModel};
 use crate::problem::{Assign, LifelongProblem, ScheduleErrorRecord, Trace};
 use crate::rotation_pibt::RotationPibt;
 use crate::scheduler::{SchedulerKind, schedule};
 use crate::sim::Simulation;
 
 /// lifelong-pibt's parameters: the scheduler and the guide paths.
-const PIBT_PARAMS: [Param; 4] = [
+const PIBT_PARAMS: [Param; 5] = [
     Param {
         name: "scheduler",
         default: "greedy",
@@ -50,6 +50,11 @@ const PIBT_PARAMS: [Param; 4] = [
         name: "guide_replans",
         default: "100",
         doc: "guide paths re-planned per step beyond those of robots with a new goal, farthest from their path first (the kit re-plans until its time runs out; a count keeps runs reproducible)",
+    },
+    Param {
+        name: "distances",
+        default: "hops",
+        doc: "how a robot without a guide path ranks its cells under MAPF_T: hops = moves to the goal, then fewer turns; turns = actions to the goal counting quarter turns, from tables over (cell, orientation)",
     },
 ];
 
@@ -72,6 +77,7 @@ pub const PIBT_ENTRY: PlannerEntry<LifelongProblem> = PlannerEntry {
                 _ => Guidance::TrafficFlow,
             },
             guide_replans: p.get_in("guide_replans", 0..=1_000_000)?,
+            turn_distances: p.choice("distances", &["hops", "turns"])? == 1,
         }))
     },
 };
@@ -106,6 +112,8 @@ pub struct LifelongPibt {
     pub guidance: Guidance,
     /// Guide paths re-planned per step ([`GuidePaths::replans`]).
     pub guide_replans: usize,
+    /// Under `MAPF_T`, rank cells by rotation-aware distances ([`TurnDistances`]).
+    pub turn_distances: bool,
 }
 
 impl Planner<LifelongProblem> for LifelongPibt {
@@ -123,8 +131,18 @@ impl Planner<LifelongProblem> for LifelongPibt {
             Guidance::Auto => n as f64 >= AUTO_DENSITY * vertices as f64,
         };
         let mut guide = guided.then(|| GuidePaths::new(problem.map(), n, self.guide_replans));
+        // Built during preprocessing and used by every step: shared by the two closures.
+        let turn_tables = std::cell::RefCell::new(
+            (self.turn_distances && problem.model() == ActionModel::MapfT)
+                .then(|| TurnDistances::new(problem.map(), DEFAULT_BUDGET / 2)),
+        );
         let mut cells = Vec::with_capacity(n);
-        run(problem, ctx, |sim, dist, budget| {
+        let prepare = |targets: &[VertexId], deadlines: &[Deadline]| {
+            if let Some(t) = turn_tables.borrow_mut().as_mut() {
+                t.warm(targets, deadlines);
+            }
+        };
+        run(problem, ctx, prepare, |sim, dist, budget| {
             let started = Instant::now();
             let proposal = schedule(
                 self.scheduler,
@@ -151,7 +169,8 @@ impl Planner<LifelongProblem> for LifelongPibt {
                 let graph = problem.map().graph();
                 g.update(&cells, &goals, sim.t, dist, graph, Deadline::after(left));
             }
-            let actions = pibt.step(sim, &goals, dist, guide.as_mut());
+            let mut turns = turn_tables.borrow_mut();
+            let actions = pibt.step(sim, &goals, dist, guide.as_mut(), turns.as_mut());
             (actions, proposal)
         })
     }
@@ -161,13 +180,16 @@ impl Planner<LifelongProblem> for LifelongPibt {
 pub type Answer = (Vec<Action>, Vec<Option<usize>>);
 
 /// Runs the kit's loop (module doc) with `call` as scheduler and planner: given the state, the
-/// distance tables and the step's budget, it answers.
+/// distance tables and the step's budget, it answers. `prepare` is called during preprocessing
+/// with each batch of errand cells whose hop tables were built, and the deadlines that bound it
+/// (a planner's own tables, e.g. [`TurnDistances`]).
 ///
 /// # Errors
 /// [`Unsolved::Invalid`] when an answer breaks the rules (a bug in the planner).
 pub fn run(
     problem: &LifelongProblem,
     ctx: &Ctx,
+    mut prepare: impl FnMut(&[VertexId], &[Deadline]),
     mut call: impl FnMut(&Simulation<'_>, &mut Distances, Duration) -> Answer,
 ) -> Result<Trace, Unsolved> {
     let n = problem.starts().len();
@@ -189,6 +211,7 @@ pub fn run(
     let prep = Deadline::after(problem.preprocess_time());
     for (k, chunk) in errands.chunks(256).enumerate() {
         let live = dist.warm(graph, chunk, &[prep, ctx.deadline]);
+        prepare(chunk, &[prep, ctx.deadline]);
         ctx.report(Progress {
             stage: "preprocessing",
             done: ((k * 256) + chunk.len()) as u64,

@@ -26,14 +26,16 @@ fn every_planner_finishes_tasks_and_its_output_reads_back() {
             let problem =
                 LifelongProblem::load(&data(example), model, 200, Duration::from_secs(1)).unwrap();
             for entry in PLANNERS {
-                for (scheduler, guidance) in [
-                    ("greedy", "none"),
-                    ("hungarian", "none"),
-                    ("greedy", "traffic-flow"),
-                    ("hungarian", "traffic-flow"),
+                for (scheduler, guidance, distances) in [
+                    ("greedy", "none", "hops"),
+                    ("hungarian", "none", "hops"),
+                    ("greedy", "traffic-flow", "hops"),
+                    ("hungarian", "traffic-flow", "hops"),
+                    ("greedy", "none", "turns"),
+                    ("hungarian", "none", "turns"),
                 ] {
                     let what = format!(
-                        "{example}, {}, {}, {scheduler}, {guidance}",
+                        "{example}, {}, {}, {scheduler}, {guidance}, {distances}",
                         model.name(),
                         entry.name
                     );
@@ -41,6 +43,7 @@ fn every_planner_finishes_tasks_and_its_output_reads_back() {
                         .instantiate(&[
                             ("scheduler".into(), scheduler.into()),
                             ("guidance".into(), guidance.into()),
+                            ("distances".into(), distances.into()),
                         ])
                         .unwrap();
                     let ctx = Ctx {
