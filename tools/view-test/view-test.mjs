@@ -9,14 +9,19 @@ import { readFileSync, mkdirSync } from "node:fs";
 import { basename } from "node:path";
 import { pathToFileURL } from "node:url";
 
-// `--perf PAGE.html`: open a (large) page, play 60 frames, print the mean draw time.
-if (process.argv[2] === "--perf") {
-  const pagePath = process.argv[3];
-  const browser = await chromium.launch({
+// Headless Debian Chromium, without the background traffic this machine's closed network refuses.
+function launch() {
+  return chromium.launch({
     executablePath: process.env.CHROMIUM || "/usr/bin/chromium",
     args: ["--no-sandbox", "--disable-gpu", "--disable-background-networking",
       "--disable-component-update", "--disable-sync", "--no-first-run", "--disable-quic"],
   });
+}
+
+// `--perf PAGE.html`: open a (large) page, play 60 frames, print the mean draw time.
+if (process.argv[2] === "--perf") {
+  const pagePath = process.argv[3];
+  const browser = await launch();
   const page = await browser.newPage({ viewport: { width: 1200, height: 800 } });
   const t0 = Date.now();
   await page.goto(pathToFileURL(pagePath).href, { timeout: 120000 });
@@ -59,11 +64,7 @@ if (process.argv[2] === "--lifelong") {
       return d === undefined ? [x, y, o] : [x + step[d][0], y + step[d][1], o];
     }));
   }
-  const browser = await chromium.launch({
-    executablePath: process.env.CHROMIUM || "/usr/bin/chromium",
-    args: ["--no-sandbox", "--disable-gpu", "--disable-background-networking",
-      "--disable-component-update", "--disable-sync", "--no-first-run", "--disable-quic"],
-  });
+  const browser = await launch();
   const page = await browser.newPage({ viewport: { width: 1000, height: 700 } });
   const errors = [];
   page.on("pageerror", e => errors.push(String(e)));
@@ -147,11 +148,7 @@ function formationCheck(plan, i, t, steps, got) {
   return "off its route";
 }
 
-const browser = await chromium.launch({
-  executablePath: process.env.CHROMIUM || "/usr/bin/chromium",
-  args: ["--no-sandbox", "--disable-gpu", "--disable-background-networking",
-    "--disable-component-update", "--disable-sync", "--no-first-run", "--disable-quic"],
-});
+const browser = await launch();
 let failures = 0;
 for (let k = 0; k < pairs.length; k += 2) {
   const [pagePath, planPath] = [pairs[k], pairs[k + 1]];
