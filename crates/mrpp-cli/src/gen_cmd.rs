@@ -1,4 +1,5 @@
-//! `mrpp gen ...`: problem files from seeds — random grid maps and MovingAI scenarios, polygon
+//! `mrpp gen ...`: problem files from seeds — random grid maps and MovingAI scenarios, League
+//! of Robot Runners problems, polygon
 //! worlds (stand-ins for the GA paper's maps that are not public), formation files (random
 //! Q_ini/Q_goal on a map) and continuous worlds.
 
@@ -26,6 +27,31 @@ pub(crate) enum Gen {
         map: PathBuf,
         #[arg(short = 'N', long, allow_negative_numbers = true, value_parser = crate::output::parse_count)]
         agents: usize,
+        #[arg(short = 's', long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
+        seed: u64,
+        #[arg(short = 'o', long)]
+        out: PathBuf,
+    },
+    /// A random League of Robot Runners problem on a grid map: --robots distinct start cells and
+    /// --tasks tasks of --errands errands each, drawn uniformly (seeded) from the map's largest
+    /// connected area (an errand differs from the one before it). Writes OUT.json and, beside it as
+    /// the start kit lays them out, maps/, agents/ and tasks/ (the 2024 layout).
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp gen lorr -m data/movingai/warehouse-20-40-10-2-2.map --robots 10000 --tasks 100000 -s 0 -o warehouse-10k.json\n  mrpp solve --lorr warehouse-10k.json -P lifelong-pibt --steps 300 -o run.json"
+    )]
+    Lorr {
+        #[arg(short = 'm', long)]
+        map: PathBuf,
+        #[arg(long, allow_negative_numbers = true, value_parser = crate::output::parse_count)]
+        robots: usize,
+        #[arg(long, allow_negative_numbers = true, value_parser = crate::output::parse_count)]
+        tasks: usize,
+        /// Errands per task.
+        #[arg(long, default_value_t = 2, allow_negative_numbers = true, value_parser = crate::output::parse_count)]
+        errands: usize,
+        /// `numTasksReveal`: tasks open at a time per robot.
+        #[arg(long, default_value_t = 1.5, allow_negative_numbers = true)]
+        reveal: f64,
         #[arg(short = 's', long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
         seed: u64,
         #[arg(short = 'o', long)]
@@ -139,6 +165,15 @@ pub(crate) fn run(cmd: Gen) -> Result<u8, Fail> {
             );
             Ok(0)
         }
+        Gen::Lorr {
+            map,
+            robots,
+            tasks,
+            errands,
+            reveal,
+            seed,
+            out,
+        } => lorr(&map, robots, tasks, errands, reveal, seed, &out),
         Gen::Map {
             width,
             height,
@@ -227,6 +262,122 @@ pub(crate) fn run(cmd: Gen) -> Result<u8, Fail> {
             Ok(0)
         }
     }
+}
+
+/// `mrpp gen lorr` (the subcommand's doc).
+fn lorr(
+    map: &std::path::Path,
+    robots: usize,
+    tasks: usize,
+    errands: usize,
+    reveal: f64,
+    seed: u64,
+    out: &std::path::Path,
+) -> Result<u8, Fail> {
+    use rand::RngExt;
+    use rand::seq::IndexedRandom;
+    if out.extension().and_then(|e| e.to_str()) != Some("json") {
+        return Err(Fail(format!("{}: --out must end in .json", out.display())));
+    }
+    if !(reveal.is_finite() && reveal > 0.0 && reveal <= 1000.0) {
+        return Err(Fail(format!(
+            "--reveal must be more than 0 and at most 1000 tasks per robot, got {reveal}"
+        )));
+    }
+    if !(1..=1_000_000).contains(&errands) || !(1..=10_000_000).contains(&tasks) {
+        return Err(Fail(format!(
+            "--tasks must be 1 to 10000000 and --errands 1 to 1000000, got {tasks} and {errands}"
+        )));
+    }
+    let stem = out
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let dir = out.parent().unwrap_or(std::path::Path::new(""));
+    let map_name = format!("{}.map", file_name(map).trim_end_matches(".map"));
+    let rel = [
+        format!("maps/{map_name}"),
+        format!("agents/{stem}.agents"),
+        format!("tasks/{stem}.tasks"),
+    ];
+    let files: Vec<PathBuf> = rel.iter().map(|r| dir.join(r)).collect();
+    // The three files go in sub-folders made below; where a folder exists already, the file
+    // in it is checked like --out (it may not be an input, e.g. the map itself).
+    guard([map], &[out])?;
+    for f in &files {
+        if f.parent().is_some_and(std::path::Path::is_dir) {
+            crate::output::check_output(f)?;
+        }
+    }
+    let grid = mrpp_grid::GridMap::load(map)?;
+    let area = mrpp_mapf::map::largest_component(&grid);
+    if robots > area.len() || area.len() < 2 {
+        return Err(Fail(format!(
+            "{}: cannot place {robots} robots: the largest connected area has {} free cells",
+            map.display(),
+            area.len()
+        )));
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let width = u64::from(grid.width());
+    let location = |v: mrpp_core::VertexId| {
+        let (x, y) = grid.cell(v);
+        u64::from(y) * width + u64::from(x)
+    };
+    let starts: Vec<String> = area
+        .sample(&mut rng, robots)
+        .map(|&v| location(v).to_string())
+        .collect();
+    let mut task_lines = Vec::with_capacity(tasks);
+    for _ in 0..tasks {
+        let mut line: Vec<mrpp_core::VertexId> = Vec::with_capacity(errands);
+        while line.len() < errands {
+            let v = area[rng.random_range(0..area.len())];
+            if line.last() != Some(&v) {
+                line.push(v);
+            }
+        }
+        task_lines.push(
+            line.iter()
+                .map(|&v| location(v).to_string())
+                .collect::<Vec<_>>()
+                .join(","),
+        );
+    }
+    let header = "# version for LoRR 2024";
+    let problem = serde_json::json!({
+        "mapFile": rel[0],
+        "agentFile": rel[1],
+        "teamSize": robots,
+        "taskFile": rel[2],
+        "numTasksReveal": reveal,
+        "version": "2024 LoRR",
+    });
+    for sub in ["maps", "agents", "tasks"] {
+        std::fs::create_dir_all(dir.join(sub))
+            .map_err(|e| Fail(format!("{}: {e}", dir.join(sub).display())))?;
+    }
+    write_atomic(&files[0], grid.movingai_text())?;
+    write_atomic(
+        &files[1],
+        format!("{header}\n{robots}\n{}\n", starts.join("\n")),
+    )?;
+    write_atomic(
+        &files[2],
+        format!("{header}\n{tasks}\n{}\n", task_lines.join("\n")),
+    )?;
+    write_atomic(
+        out,
+        serde_json::to_string_pretty(&problem).expect("json") + "\n",
+    )?;
+    say!(
+        "mrpp {} | gen lorr | map {} | {robots} robots | {tasks} tasks of {errands} errands | seed {seed} | written to {} (and {})",
+        env!("CARGO_PKG_VERSION"),
+        file_name(map),
+        out.display(),
+        rel.join(", ")
+    );
+    Ok(0)
 }
 
 /// The map's path as the formation file should record it: relative to the file's folder when

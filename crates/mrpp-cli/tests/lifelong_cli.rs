@@ -411,3 +411,72 @@ fn an_experiment_runs_lifelong_problems_beside_a_peer_and_reports_a_broken_one()
     }
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn gen_lorr_writes_a_problem_the_start_kit_layout_reads_and_mrpp_runs() {
+    let dir = tmp("gen");
+    let out = dir.join("maze-25.json");
+    let args = |seed: &str| {
+        vec![
+            "gen".to_string(),
+            "lorr".into(),
+            "-m".into(),
+            "data/robot-runners/lorr2026-maze/maps/maze-32-32-2.map".into(),
+            "--robots".into(),
+            "25".into(),
+            "--tasks".into(),
+            "200".into(),
+            "--errands".into(),
+            "3".into(),
+            "-s".into(),
+            seed.into(),
+            "-o".into(),
+            out.to_str().unwrap().into(),
+        ]
+    };
+    let run = |a: Vec<String>| mrpp(&a.iter().map(String::as_str).collect::<Vec<_>>());
+    let (code, _, err) = run(args("4"));
+    assert_eq!(code, Some(0), "{err}");
+    let tasks = std::fs::read_to_string(dir.join("tasks/maze-25.tasks")).unwrap();
+    let lines: Vec<&str> = tasks.lines().collect();
+    assert_eq!(lines[1], "200");
+    assert_eq!(lines.len(), 202);
+    assert!(lines[2..].iter().all(|l| l.split(',').count() == 3));
+    // Seeded: the same seed writes the same files.
+    let (code, _, err) = run(args("4"));
+    assert_eq!(code, Some(0), "{err}");
+    assert_eq!(
+        std::fs::read_to_string(dir.join("tasks/maze-25.tasks")).unwrap(),
+        tasks
+    );
+    // It reads as a lifelong problem and runs valid.
+    let runf = dir.join("run.json");
+    let (code, _, err) = mrpp(&[
+        "solve",
+        "--lorr",
+        out.to_str().unwrap(),
+        "-P",
+        "lifelong-pibt",
+        "--steps",
+        "50",
+        "-o",
+        runf.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    if let Some((valid, _)) = checker(out.to_str().unwrap(), &runf) {
+        assert!(valid);
+    }
+    // More robots than free cells, and an --out that is not JSON: refused, nothing written.
+    let mut too_many = args("4");
+    too_many[5] = "100000".into();
+    let (code, _, err) = run(too_many);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("cannot place 100000 robots"), "{err}");
+    let mut not_json = args("4");
+    not_json[13] = dir.join("p.txt").to_str().unwrap().into();
+    let (code, _, err) = run(not_json);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("must end in .json"), "{err}");
+    assert!(!dir.join("p.txt").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

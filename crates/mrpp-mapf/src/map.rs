@@ -314,19 +314,9 @@ fn finish(map: GridMap, path: &Path) -> Result<GridMap> {
     Ok(map)
 }
 
-/// A random instance of `agents` agents on `map` (what `mrpp gen scen` writes): starts distinct,
-/// goals distinct, all drawn uniformly (seeded) from the largest connected component, so every
-/// agent can reach its goal.
-///
-/// # Errors
-/// A message when the component has fewer than `agents` cells or `agents` is 0.
-pub fn random_instance(
-    map: &GridMap,
-    agents: usize,
-    seed: u64,
-) -> std::result::Result<mrpp_core::Instance, String> {
-    use rand::SeedableRng;
-    use rand::seq::IndexedRandom;
+/// The free cells of the map's largest connected area (the first found among equals), in
+/// breadth-first order from its lowest vertex.
+pub fn largest_component(map: &GridMap) -> Vec<VertexId> {
     let g = map.graph();
     let mut component = vec![usize::MAX; g.num_vertices()];
     let mut best: Vec<VertexId> = Vec::new();
@@ -350,6 +340,23 @@ pub fn random_instance(
             best = cells;
         }
     }
+    best
+}
+
+/// A random instance of `agents` agents on `map` (what `mrpp gen scen` writes): starts distinct,
+/// goals distinct, all drawn uniformly (seeded) from the largest connected component, so every
+/// agent can reach its goal.
+///
+/// # Errors
+/// A message when the component has fewer than `agents` cells or `agents` is 0.
+pub fn random_instance(
+    map: &GridMap,
+    agents: usize,
+    seed: u64,
+) -> std::result::Result<mrpp_core::Instance, String> {
+    use rand::SeedableRng;
+    use rand::seq::IndexedRandom;
+    let best = largest_component(map);
     if agents == 0 || agents > best.len() {
         return Err(format!(
             "cannot place {agents} agents: the largest connected area has {} free cells",
