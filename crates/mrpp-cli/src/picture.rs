@@ -52,6 +52,21 @@ pub(crate) fn frame_svg(scene: &Value, t: usize) -> String {
     draw(scene, Some(t))
 }
 
+/// Agent `a`'s goal at step `t` (`None`: the whole plan): its `goal`, or in a lifelong run's
+/// frame the entry of its `goals` change list in force at `t` (`None` when it has no task).
+fn goal_at(scene: &Value, a: &Value, t: Option<usize>) -> Option<[f64; 2]> {
+    let (Some(t), Some(changes)) = (t, a["goals"].as_array()) else {
+        return Some(point(&a["goal"]));
+    };
+    let entry = changes
+        .iter()
+        .take_while(|c| c[0].as_u64().is_some_and(|s| s as usize <= t))
+        .last()?;
+    let cell = entry[1].as_i64().filter(|&c| c >= 0)?;
+    let w = scene["cells"]["width"].as_i64().filter(|&w| w > 0)?;
+    Some([(cell % w) as f64 + 0.5, (cell / w) as f64 + 0.5])
+}
+
 /// The whole plan as SVG: routes, starts and goals.
 pub(crate) fn paths_svg(scene: &Value) -> String {
     draw(scene, None)
@@ -132,7 +147,10 @@ fn draw(scene: &Value, t: Option<usize>) -> String {
     let agents = scene["agents"].as_array().cloned().unwrap_or_default();
     for (i, a) in agents.iter().enumerate() {
         let r = a["radius"].as_f64().unwrap_or(0.4) * scale;
-        let (gx, gy) = xy(point(&a["goal"]));
+        let Some(goal) = goal_at(scene, a, t) else {
+            continue;
+        };
+        let (gx, gy) = xy(goal);
         let g = (r * 0.9).max(1.5);
         let _ = write!(
             s,
@@ -301,5 +319,30 @@ mod tests {
         let frame = frame_svg(&scene, 1);
         assert!(frame.contains(">t = 1 of 2</text>"), "{frame}");
         assert!(frame.contains(">2 agents, one colour each</text>"));
+    }
+
+    #[test]
+    fn a_lifelong_frame_draws_the_goal_in_force_at_its_step() {
+        // A 3 x 1 grid; the robot has no task until step 2, then its errand is cell 2.
+        let scene = serde_json::json!({
+            "bounds": [0.0, 0.0, 3.0, 1.0],
+            "cells": {"width": 3, "height": 1, "rows": ["..."]},
+            "agents": [{"radius": 0.4, "start": [0.5, 0.5], "goal": [0.5, 0.5],
+                "cells": [0, 0, 1, 2], "goals": [[0, -1, -1], [2, 2, 7]]}]
+        });
+        // The legend draws one goal square of its own.
+        let squares = |t| frame_svg(&scene, t).matches("<rect x=").count();
+        let before = squares(1);
+        assert_eq!(squares(2), before + 1);
+        assert!(
+            frame_svg(&scene, 3).contains(r#"<rect x="#),
+            "a goal is drawn at step 3"
+        );
+        let at = |t| goal_at(&scene, &scene["agents"][0], Some(t));
+        assert_eq!(
+            (at(0), at(1), at(2), at(3)),
+            (None, None, Some([2.5, 0.5]), Some([2.5, 0.5]))
+        );
+        assert_eq!(goal_at(&scene, &scene["agents"][0], None), Some([0.5, 0.5]));
     }
 }
