@@ -1,0 +1,222 @@
+//! The executed-record validator: replays an [`Execution`]'s record (each move's first and last
+//! tick, each delay) against the plan, without the executor's logic, and recounts its collisions.
+//!
+//! Rules: every robot makes exactly its plan's moves (waits dropped), in order, one at a time;
+//! a move lasts exactly `ticks_per_move` ticks in which its robot is not held by a delay (a held
+//! robot does not progress, and never starts a move); a robot's delays do not overlap. A ring
+//! executed jointly must be a ring of the plan (moves at one step, each into the cell the next
+//! leaves); its moves share their ticks and progress on the ticks no member is held. Positions
+//! and footprints are those of [`crate::execute`]; the collisions found must be the ones recorded.
+
+use mrpp_core::mapf::graph::VertexId;
+use mrpp_core::mapf::plan::Plan;
+use mrpp_mapf::GridMap;
+
+use crate::execute::{Collision, Execution};
+
+/// Held ticks of `delays` (sorted, disjoint) within `[a, b)`.
+fn held(delays: &[[u64; 2]], a: u64, b: u64) -> u64 {
+    delays
+        .iter()
+        .map(|d| d[1].min(b).saturating_sub(d[0].max(a)))
+        .sum()
+}
+
+/// Checks `exec` against `plan` (module doc); returns the collisions of the replay.
+///
+/// # Errors
+/// The first rule broken, naming the robot, the move and the tick.
+pub fn check(
+    map: &GridMap,
+    plan: &Plan,
+    exec: &Execution,
+    ticks_per_move: u32,
+    agent_size: f64,
+) -> Result<Vec<Collision>, String> {
+    let c = u64::from(ticks_per_move.max(1));
+    let n = plan.paths.len();
+    if exec.moves.len() != n || exec.delays.len() != n {
+        return Err(format!(
+            "the record has {} robots' moves and {} robots' delays, the plan {n} robots",
+            exec.moves.len(),
+            exec.delays.len()
+        ));
+    }
+    let moves: Vec<Vec<(VertexId, VertexId)>> = plan
+        .paths
+        .iter()
+        .map(|p| {
+            p.windows(2)
+                .filter(|w| w[0] != w[1])
+                .map(|w| (w[0], w[1]))
+                .collect()
+        })
+        .collect();
+    let steps: Vec<Vec<usize>> = plan
+        .paths
+        .iter()
+        .map(|p| {
+            (0..p.len().saturating_sub(1))
+                .filter(|&t| p[t] != p[t + 1])
+                .collect()
+        })
+        .collect();
+    // Rings: each a ring of the plan; the ticks on which any member is held.
+    let mut ring_of = std::collections::HashMap::new();
+    for (g, members) in exec.rotations.iter().enumerate() {
+        for (t, &(i, k)) in members.iter().enumerate() {
+            let (j, m) = members[(t + 1) % members.len()];
+            let ok = i < n
+                && j < n
+                && k < moves[i].len()
+                && m < moves[j].len()
+                && moves[i][k].1 == moves[j][m].0
+                && steps[i][k] == steps[j][m];
+            if !ok || members.len() < 2 {
+                return Err(format!("ring {g} ({members:?}) is not a ring of the plan"));
+            }
+            ring_of.insert((i, k), g);
+        }
+    }
+    let ring_held = |g: usize, a: u64, b: u64| {
+        (a..b)
+            .filter(|&t| {
+                exec.rotations[g]
+                    .iter()
+                    .any(|&(j, _)| held(&exec.delays[j], t, t + 1) > 0)
+            })
+            .count() as u64
+    };
+    for (i, (rec, dl)) in exec.moves.iter().zip(&exec.delays).enumerate() {
+        for w in dl.windows(2) {
+            if w[1][0] < w[0][1] {
+                return Err(format!(
+                    "robot {i}: delays {:?} and {:?} overlap",
+                    w[0], w[1]
+                ));
+            }
+        }
+        if rec.len() > moves[i].len() {
+            return Err(format!(
+                "robot {i}: {} moves executed, its plan has {}",
+                rec.len(),
+                moves[i].len()
+            ));
+        }
+        let mut free_from = 0;
+        for (k, &[a, b]) in rec.iter().enumerate() {
+            if a < free_from || b <= a {
+                return Err(format!(
+                    "robot {i}, move {k}: ticks [{a}, {b}) overlap its move before or are empty"
+                ));
+            }
+            if held(dl, a, a + 1) > 0 {
+                return Err(format!(
+                    "robot {i}, move {k}: starts at tick {a} while held"
+                ));
+            }
+            let progress = match ring_of.get(&(i, k)) {
+                Some(&g) => {
+                    let first = exec.rotations[g][0];
+                    if exec.moves[first.0].get(first.1) != Some(&[a, b]) {
+                        return Err(format!(
+                            "robot {i}, move {k}: its ring's moves do not share their ticks"
+                        ));
+                    }
+                    (b - a) - ring_held(g, a, b)
+                }
+                None => (b - a) - held(dl, a, b),
+            };
+            if progress != c {
+                return Err(format!(
+                    "robot {i}, move {k}: {progress} ticks of progress in [{a}, {b}), a move takes {c}"
+                ));
+            }
+            free_from = b;
+        }
+    }
+    if exec.ending == crate::execute::Ending::Finished
+        && let Some(i) = (0..n).find(|&i| exec.moves[i].len() != moves[i].len())
+    {
+        return Err(format!(
+            "robot {i}: the execution says finished after {} of its {} moves",
+            exec.moves[i].len(),
+            moves[i].len()
+        ));
+    }
+    let centre = |v: VertexId| {
+        let (x, y) = map.cell(v);
+        [f64::from(x) + 0.5, f64::from(y) + 0.5]
+    };
+    let mut found = Vec::new();
+    for tick in 0..exec.ticks {
+        let points: Vec<[f64; 2]> = (0..n)
+            .map(|i| {
+                let rec = &exec.moves[i];
+                // Moves finished by the end of this tick, and the one under way.
+                let finished = rec.partition_point(|m| m[1] <= tick + 1);
+                match rec.get(finished).filter(|m| m[0] <= tick) {
+                    Some(&[a, _]) => {
+                        let stopped = match ring_of.get(&(i, finished)) {
+                            Some(&g) => ring_held(g, a, tick + 1),
+                            None => held(&exec.delays[i], a, tick + 1),
+                        };
+                        let p = (tick + 1 - a) - stopped;
+                        let (from, to) = moves[i][finished];
+                        let (s, e) = (centre(from), centre(to));
+                        let f = p as f64 / c as f64;
+                        [s[0] + (e[0] - s[0]) * f, s[1] + (e[1] - s[1]) * f]
+                    }
+                    None if finished == 0 => centre(plan.paths[i][0]),
+                    None => centre(moves[i][finished - 1].1),
+                }
+            })
+            .collect();
+        overlaps(&points, agent_size, tick, &mut found);
+    }
+    let key = |c: &Collision| (c.tick, c.robots);
+    let mut recorded: Vec<_> = exec.collisions.iter().map(key).collect();
+    let mut replayed: Vec<_> = found.iter().map(key).collect();
+    recorded.sort_unstable();
+    replayed.sort_unstable();
+    if recorded != replayed {
+        return Err(format!(
+            "the record claims {} collisions, the replay finds {}",
+            recorded.len(),
+            replayed.len()
+        ));
+    }
+    Ok(found)
+}
+
+/// Appends the pairs of overlapping footprints among `points` (a grid of buckets, so thousands of
+/// robots cost little).
+pub(crate) fn overlaps(points: &[[f64; 2]], size: f64, tick: u64, out: &mut Vec<Collision>) {
+    use std::collections::HashMap;
+    let mut buckets: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
+    for (i, p) in points.iter().enumerate() {
+        buckets
+            .entry((p[0].floor() as i64, p[1].floor() as i64))
+            .or_default()
+            .push(i);
+    }
+    let eps = 1e-9;
+    for (i, p) in points.iter().enumerate() {
+        let (bx, by) = (p[0].floor() as i64, p[1].floor() as i64);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                for &j in buckets.get(&(bx + dx, by + dy)).into_iter().flatten() {
+                    let q = points[j];
+                    if j > i && (p[0] - q[0]).abs() < size - eps && (p[1] - q[1]).abs() < size - eps
+                    {
+                        out.push(Collision {
+                            tick,
+                            robots: [i, j],
+                            at: [*p, q],
+                        });
+                    }
+                }
+            }
+        }
+    }
+}

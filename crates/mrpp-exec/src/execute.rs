@@ -1,0 +1,333 @@
+//! A grid plan executed tick by tick under delays (issue 29, items 1–3).
+//!
+//! **Ticks.** Every move takes `ticks_per_move` ticks of progress (the League's `agentCounter`);
+//! waits of the plan are not actions (a robot simply has no move to make). Each tick, first the
+//! delays are drawn ([`DelayGenerator`]); then every robot in the middle of a move and not held
+//! progresses by one tick; then every idle robot with a move left, not held and not busy this
+//! tick, starts its next move if its executor lets it (and makes that tick's progress): a robot
+//! progresses at most once a tick. A move finished this tick counts for
+//! the executor's checks from the next robot start on; a move started and finished within the same
+//! tick (one tick per move) counts from the next tick.
+//!
+//! **Executors.** `adg`: a robot starts a move once every move it depends on in the action
+//! dependency graph ([`Adg`]) is finished (Hönig et al., RA-L 2019); `naive`: a robot starts its
+//! `k`-th move at the plan's time of that move (`step x ticks_per_move`) or, when it is late, at
+//! once; it may collide.
+//!
+//! **Rotations.** A plan may move robots in a ring at one step, each into the cell the next
+//! leaves (grid plans allow it; LaCAM's do it). Their moves depend on each other, so the ADG alone
+//! would wait forever; where the paper is silent mrpp executes such a ring *jointly*: its moves
+//! start together once every member is ready, not held and its other dependencies are finished,
+//! and progress together, all pausing while any member is held. The ring keeps its shape, so
+//! footprints of side at most 0.5 never overlap; larger squares overlap at the ring's corners
+//! (the plan's geometry, not lateness), and those collisions are reported like any other.
+//!
+//! **Positions and footprints.** At the end of a tick a moving robot stands at `from + (to -
+//! from) x progress / ticks_per_move`; its footprint is the axis-aligned square of side
+//! `agent_size` around that point (the League's `agentSize`). Two footprints collide when they
+//! overlap with positive area (squares that only touch do not).
+
+use mrpp_core::mapf::graph::VertexId;
+use mrpp_core::mapf::plan::Plan;
+use mrpp_mapf::GridMap;
+use serde::Serialize;
+
+use crate::adg::Adg;
+use crate::check::overlaps;
+use crate::delays::{DelayConfig, DelayGenerator};
+
+/// Who decides when a robot starts its next move (module doc).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ExecutorKind {
+    Adg,
+    Naive,
+}
+
+impl ExecutorKind {
+    pub fn name(self) -> &'static str {
+        match self {
+            ExecutorKind::Adg => "adg",
+            ExecutorKind::Naive => "naive",
+        }
+    }
+
+    /// `adg` or `naive`.
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "adg" => Some(ExecutorKind::Adg),
+            "naive" => Some(ExecutorKind::Naive),
+            _ => None,
+        }
+    }
+}
+
+/// How to execute.
+#[derive(Debug, Clone)]
+pub struct ExecConfig {
+    pub executor: ExecutorKind,
+    /// Ticks of progress per move (`agentCounter`), at least 1.
+    pub ticks_per_move: u32,
+    pub delays: DelayConfig,
+    /// The delays' seed.
+    pub seed: u64,
+    /// Side of a robot's square footprint in cells (`agentSize`), in (0, 1].
+    pub agent_size: f64,
+    /// The execution stops here if robots are still moving (a safety net).
+    pub max_ticks: u64,
+}
+
+/// How an execution ended.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Ending {
+    /// Every robot made all its moves.
+    Finished,
+    /// No robot could progress and none was held (the ADG of a valid plan never does this).
+    Deadlock { tick: u64 },
+    /// `max_ticks` passed.
+    TickLimit,
+}
+
+/// Two footprints overlapping at the end of a tick.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct Collision {
+    pub tick: u64,
+    pub robots: [usize; 2],
+    pub at: [[f64; 2]; 2],
+}
+
+/// What was executed.
+#[derive(Debug, Clone, Serialize)]
+pub struct Execution {
+    /// Per robot, per move of the plan (waits dropped): `[first tick, tick after the last]`.
+    pub moves: Vec<Vec<[u64; 2]>>,
+    /// Per robot, its delays `[first tick, tick after the last]`.
+    pub delays: Vec<Vec<[u64; 2]>>,
+    /// Ticks executed.
+    pub ticks: u64,
+    pub ending: Ending,
+    /// Every collision of the execution (end-of-tick footprints), in tick order.
+    pub collisions: Vec<Collision>,
+    /// Rings executed jointly (`adg`; module doc): `(robot, move)` pairs.
+    pub rotations: Vec<Vec<(usize, usize)>>,
+    pub metrics: ExecMetrics,
+}
+
+/// What an execution measures (ticks).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
+pub struct ExecMetrics {
+    /// The tick after every robot's last move.
+    pub makespan: u64,
+    /// Sum over robots of the tick after its last move.
+    pub sum_of_costs: u64,
+    /// The same for the plan executed without delays on its own timing.
+    pub planned_makespan: u64,
+    pub planned_sum_of_costs: u64,
+    /// Executed / planned (1 when the plan has no move).
+    pub makespan_ratio: f64,
+    pub sum_of_costs_ratio: f64,
+    /// Ticks robots were held by a delay before their last move was done.
+    pub ticks_lost_to_delays: u64,
+    /// Ticks robots stood ready (not held, a move left) waiting for a dependency (`adg`) or for
+    /// the plan's time (`naive`) beyond the plan's own waits.
+    pub waits_added: u64,
+    pub collisions: usize,
+}
+
+/// Cell centres of the map's vertices.
+fn centre(map: &GridMap, v: VertexId) -> [f64; 2] {
+    let (x, y) = map.cell(v);
+    [f64::from(x) + 0.5, f64::from(y) + 0.5]
+}
+
+/// Executes `plan` on `map` (module doc).
+pub fn execute(map: &GridMap, plan: &Plan, cfg: &ExecConfig) -> Execution {
+    let adg = Adg::new(plan);
+    let n = plan.paths.len();
+    let rotations = if cfg.executor == ExecutorKind::Adg {
+        adg.rotation_cycles()
+    } else {
+        Vec::new()
+    };
+    // The ring each (robot, move) belongs to, if any.
+    let ring: std::collections::HashMap<(usize, usize), usize> = rotations
+        .iter()
+        .enumerate()
+        .flat_map(|(g, members)| members.iter().map(move |&m| (m, g)))
+        .collect();
+    let c = u64::from(cfg.ticks_per_move.max(1));
+    let mut delays = DelayGenerator::new(cfg.delays.clone(), n, cfg.seed);
+    // Per robot: moves done, the move in progress and its progress.
+    let mut done = vec![0usize; n];
+    let mut progress: Vec<Option<u64>> = vec![None; n];
+    let mut record: Vec<Vec<[u64; 2]>> = adg
+        .moves
+        .iter()
+        .map(|m| Vec::with_capacity(m.len()))
+        .collect();
+    let mut collisions = Vec::new();
+    let (mut lost, mut waits) = (0u64, 0u64);
+    let planned_finish: Vec<u64> = adg
+        .moves
+        .iter()
+        .map(|m| m.last().map_or(0, |l| (u64::from(l.step) + 1) * c))
+        .collect();
+    let starts: Vec<VertexId> = plan
+        .paths
+        .iter()
+        .map(|p| p.first().copied().unwrap_or(0))
+        .collect();
+    let mut tick = 0u64;
+    let ending = loop {
+        if (0..n).all(|i| done[i] == adg.moves[i].len()) {
+            break Ending::Finished;
+        }
+        if tick >= cfg.max_ticks {
+            break Ending::TickLimit;
+        }
+        delays.next_tick();
+        let mut moved = false;
+        let mut held_any = false;
+        // A robot progresses once a tick: one that finishes a move now starts the next one later.
+        let mut busy = vec![false; n];
+        // Rings under way pause while any member is held.
+        let paused: Vec<bool> = rotations
+            .iter()
+            .map(|members| {
+                members
+                    .iter()
+                    .any(|&(j, m)| done[j] == m && progress[j].is_some() && delays.delayed(j))
+            })
+            .collect();
+        // Moves in progress.
+        for i in 0..n {
+            let Some(p) = progress[i] else { continue };
+            if delays.delayed(i) {
+                held_any = true;
+                lost += 1;
+                continue;
+            }
+            if ring.get(&(i, done[i])).is_some_and(|&g| paused[g]) {
+                held_any = true;
+                waits += 1;
+                continue;
+            }
+            moved = true;
+            busy[i] = true;
+            if p + 1 == c {
+                progress[i] = None;
+                record[i].last_mut().expect("a move in progress")[1] = tick + 1;
+                done[i] += 1;
+            } else {
+                progress[i] = Some(p + 1);
+            }
+        }
+        // Starts, judged on the moves finished before them.
+        let finished = done.clone();
+        let ready = |j: usize, m: usize| {
+            finished[j] == m && progress[j].is_none() && !busy[j] && !delays.delayed(j)
+        };
+        // Rings that start this tick: every member ready, every outside dependency finished.
+        let starting: Vec<bool> = rotations
+            .iter()
+            .map(|members| {
+                members.iter().all(|&(j, m)| {
+                    ready(j, m)
+                        && adg.deps[j][m]
+                            .iter()
+                            .all(|&d| members.contains(&d) || finished[d.0] > d.1)
+                })
+            })
+            .collect();
+        for i in 0..n {
+            if busy[i] || progress[i].is_some() || done[i] == adg.moves[i].len() {
+                continue;
+            }
+            if delays.delayed(i) {
+                held_any = true;
+                lost += 1;
+                continue;
+            }
+            let k = done[i];
+            let go = match (cfg.executor, ring.get(&(i, k))) {
+                (ExecutorKind::Adg, Some(&g)) => starting[g],
+                (ExecutorKind::Adg, None) => adg.deps[i][k].iter().all(|&(j, m)| finished[j] > m),
+                (ExecutorKind::Naive, _) => tick >= u64::from(adg.moves[i][k].step) * c,
+            };
+            if !go {
+                // Beyond the plan's own waits: the plan would have this move under way by now.
+                if tick >= u64::from(adg.moves[i][k].step) * c {
+                    waits += 1;
+                }
+                continue;
+            }
+            moved = true;
+            record[i].push([tick, tick + 1]);
+            if c == 1 {
+                done[i] += 1;
+            } else {
+                progress[i] = Some(1);
+            }
+        }
+        tick += 1;
+        let points = positions(map, &adg, &starts, &done, &progress, c);
+        overlaps(&points, cfg.agent_size, tick - 1, &mut collisions);
+        if !moved && !held_any && cfg.executor == ExecutorKind::Adg {
+            break Ending::Deadlock { tick: tick - 1 };
+        }
+    };
+    let finish: Vec<u64> = record
+        .iter()
+        .map(|r| r.last().map_or(0, |m| m[1]))
+        .collect();
+    let makespan = finish.iter().copied().max().unwrap_or(0);
+    let soc: u64 = finish.iter().sum();
+    let planned_makespan = planned_finish.iter().copied().max().unwrap_or(0);
+    let planned_soc: u64 = planned_finish.iter().sum();
+    let ratio = |a: u64, b: u64| if b == 0 { 1.0 } else { a as f64 / b as f64 };
+    Execution {
+        metrics: ExecMetrics {
+            makespan,
+            sum_of_costs: soc,
+            planned_makespan,
+            planned_sum_of_costs: planned_soc,
+            makespan_ratio: ratio(makespan, planned_makespan),
+            sum_of_costs_ratio: ratio(soc, planned_soc),
+            ticks_lost_to_delays: lost,
+            waits_added: waits,
+            collisions: collisions.len(),
+        },
+        moves: record,
+        delays: delays.intervals,
+        ticks: tick,
+        ending,
+        collisions,
+        rotations,
+    }
+}
+
+/// Every robot's point at the end of a tick.
+fn positions(
+    map: &GridMap,
+    adg: &Adg,
+    starts: &[VertexId],
+    done: &[usize],
+    progress: &[Option<u64>],
+    c: u64,
+) -> Vec<[f64; 2]> {
+    (0..done.len())
+        .map(|i| {
+            let ms = &adg.moves[i];
+            match progress[i] {
+                Some(p) => {
+                    let m = ms[done[i]];
+                    let (a, b) = (centre(map, m.from), centre(map, m.to));
+                    let f = p as f64 / c as f64;
+                    [a[0] + (b[0] - a[0]) * f, a[1] + (b[1] - a[1]) * f]
+                }
+                None if done[i] == 0 => centre(map, starts[i]),
+                None => centre(map, ms[done[i] - 1].to),
+            }
+        })
+        .collect()
+}
