@@ -72,7 +72,7 @@ pub enum Experiment {
     /// run, and optionally a peer program (the League's start kit) on the same files, in tasks
     /// finished; every run replayed by the lifelong validator.
     #[command(
-        after_help = "Examples (from the repository's root):\n  mrpp experiment lorr data/robot-runners/lorr2026-maze/maze-example_40.json --steps 500 --schedulers greedy,hungarian -o out/lorr\n  mrpp experiment lorr example_problems/*/*.json --steps 1000 --jobs 1 --peer 'kit=cd /path/Start-Kit && ./build/lifelong -i {problem} -o {out} --simulationTime {steps} --planTimeLimit {step_ms} --preprocessTimeLimit {preprocess_ms}' -o out/lorr-1000\n\nThe peer's placeholders: {problem} {steps} {step_ms} {preprocess_ms} {out} (the League's output JSON it must write). Runs go in parallel on the machine's cores; --jobs 1 runs them one at a time (each run is timed per step)."
+        after_help = "Examples (from the repository's root):\n  mrpp experiment lorr data/robot-runners/lorr2026-maze/maze-example_40.json --steps 500 --schedulers greedy,hungarian -o out/lorr\n  mrpp experiment lorr data/robot-runners/lorr2023-warehouse_small/warehouse_small_10.json --steps 200 --runs 3 --jobs 1 -o out/lorr-small\n\nA peer, e.g. the League's start kit built by hand: --peer 'kit=cd /path/Start-Kit && ./build/lifelong -i {problem} -o {out} --simulationTime {steps} --planTimeLimit {step_ms} --preprocessTimeLimit {preprocess_ms}' (placeholders: {problem} {steps} {step_ms} {preprocess_ms} {out}, the League's output JSON it must write). Runs go in parallel on the machine's cores; --jobs 1 runs them one at a time (each run is timed per step)."
     )]
     Lorr(LorrArgs),
 }

@@ -37,7 +37,7 @@ pub(crate) enum Gen {
     /// connected area (an errand differs from the one before it). Writes OUT.json and, beside it as
     /// the start kit lays them out, maps/, agents/ and tasks/ (the 2024 layout).
     #[command(
-        after_help = "Examples (from the repository's root):\n  mrpp gen lorr -m data/movingai/warehouse-20-40-10-2-2.map --robots 10000 --tasks 100000 -s 0 -o warehouse-10k.json\n  mrpp solve --lorr warehouse-10k.json -P lifelong-pibt --steps 300 -o run.json"
+        after_help = "Examples (from the repository's root):\n  mrpp gen lorr -m data/movingai/warehouse-20-40-10-2-2.map --robots 10000 --tasks 100000 -s 0 -o warehouse-10k.json\n  mrpp gen lorr -m data/robot-runners/lorr2026-maze/maps/maze-32-32-2.map --robots 25 --tasks 200 --errands 3 -s 1 -o maze-25.json\n\nThen e.g. mrpp solve --lorr warehouse-10k.json -P lifelong-pibt --steps 300 -o run.json"
     )]
     Lorr {
         #[arg(short = 'm', long)]

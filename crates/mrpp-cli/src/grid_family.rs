@@ -201,6 +201,22 @@ fn read_plan(inputs: &Inputs, plan_path: &Path) -> Result<ReadPlan<MapfProblem>,
     })
 }
 
+/// The map and a plan the grid validator accepts (for `mrpp execute`).
+///
+/// # Errors
+/// What `read_plan` refuses, or the plan's first violation.
+pub(crate) fn read_valid_plan(
+    inputs: &Inputs,
+    plan_path: &Path,
+) -> Result<(GridMap, MapfProblem, mrpp_core::mapf::plan::Plan), Fail> {
+    let read = read_plan(inputs, plan_path)?;
+    read.problem
+        .validate(&read.plan)
+        .map_err(|v| Fail(format!("{}: not a valid plan: {v}", plan_path.display())))?;
+    let (map, _) = map_of(inputs)?;
+    Ok((map, read.problem, read.plan))
+}
+
 fn or_unknown(s: &str) -> &str {
     if s.is_empty() { "?" } else { s }
 }

@@ -16,6 +16,7 @@ pub mod api;
 mod bench;
 mod continuous_family;
 mod embedded;
+mod execute_cmd;
 mod experiment;
 mod family;
 mod formation_family;
@@ -170,6 +171,14 @@ enum Command {
         #[arg(long, default_value_t = 0)]
         port: u16,
     },
+    /// Execute a grid plan tick by tick on robots that are late: seeded delays (the League of
+    /// Robot Runners' models), moves of --ticks-per-move ticks, and an executor: the action
+    /// dependency graph (adg: the plan's order of passage at every cell is kept) or naive (the
+    /// plan's timing; it may collide). Writes the executed record; exit 3 if it collided.
+    #[command(
+        after_help = "Examples (from the repository's root), after mrpp solve -m data/movingai/random-32-32-20.map -i data/movingai/random-32-32-20-random-1.scen -N 100 -P lacam -o plan.json:\n  mrpp execute -m data/movingai/random-32-32-20.map --plan plan.json --delays bernoulli:p=0.01,min=1,max=4 --executor adg --ticks-per-move 3 -s 1 -o trace.json\n  mrpp execute -m data/movingai/random-32-32-20.map --plan plan.json --delays poisson:p=0.002,min=5,max=12,duration=gaussian --executor naive --ticks-per-move 3 -o naive.json"
+    )]
+    Execute(Box<execute_cmd::ExecuteArgs>),
     /// Draw a plan (map, starts, goals, paths): an SVG picture, a PNG, or an animated GIF, by
     /// --out's extension.
     #[command(
@@ -305,6 +314,7 @@ fn run(command: Command) -> Result<u8, Fail> {
     match command {
         Command::Solve(args) => verbs::solve(&args.request()?),
         Command::Validate { inputs, plan } => verbs::validate(&inputs, &plan),
+        Command::Execute(args) => execute_cmd::execute(&args),
         Command::Planners { family } => family::list_planners(family.as_deref()),
         Command::Info { inputs } => verbs::info(&inputs),
         Command::Render {

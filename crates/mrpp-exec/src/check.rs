@@ -6,7 +6,7 @@
 //! robot does not progress, and never starts a move); a robot's delays do not overlap. A ring
 //! executed jointly must be a ring of the plan (moves at one step, each into the cell the next
 //! leaves); its moves share their ticks and progress on the ticks no member is held. Positions
-//! and footprints are those of [`crate::execute`]; the collisions found must be the ones recorded.
+//! and footprints are those of [`crate::execute()`]; the collisions found must be the ones recorded.
 
 use mrpp_core::mapf::graph::VertexId;
 use mrpp_core::mapf::plan::Plan;

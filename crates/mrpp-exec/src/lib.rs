@@ -3,7 +3,7 @@
 //! ([`delays`], the League's `delayConfig` models) hold robots; an executor decides when each
 //! robot starts its next move: the action dependency graph ([`adg`]; Hönig et al., RA-L 2019),
 //! which keeps the plan's order of passage at every cell however late a robot is, or `naive`,
-//! which follows the plan's timing and may collide. [`execute`] runs it and measures it (executed
+//! which follows the plan's timing and may collide. [`execute()`] runs it and measures it (executed
 //! over planned makespan and sum of costs, ticks lost to delays, waits added, footprint
 //! collisions); [`check`] replays an executed record independently of the executor.
 

@@ -1,0 +1,196 @@
+//! `mrpp execute`: a grid plan executed tick by tick under seeded delays by an executor
+//! ([`mrpp_exec`]; issue 29, item 3), checked by the executed-record validator, written as an
+//! `mrpp-execution/1` record.
+//!
+//! The record: `{"format": "mrpp-execution/1", "plan", "executor", "delays", "seed",
+//! "ticks_per_move", "agent_size", "ending", "metrics", "rings", "collisions" (the first 100),
+//! "agents": [{"start": [x, y], "moves": [[first tick, tick after, [x, y], [x, y]], ...],
+//! "delays": [[first tick, tick after], ...]}]}`; ticks from 0, cells as `[x, y]`.
+
+use std::path::PathBuf;
+
+use serde_json::{Value, json};
+
+use mrpp_exec::check::check;
+use mrpp_exec::execute::Ending;
+use mrpp_exec::{DelayConfig, ExecConfig, ExecutorKind};
+
+use crate::family::Inputs;
+use crate::output::{Fail, file_name, say, write_atomic};
+
+#[derive(clap::Args)]
+pub(crate) struct ExecuteArgs {
+    #[command(flatten)]
+    inputs: Inputs,
+    /// The grid plan to execute (mrpp's plan JSON or LaCAM text).
+    #[arg(long)]
+    plan: PathBuf,
+    /// Delays: `none`, or `bernoulli:p=P,min=A,max=B` / `poisson:p=P,min=A,max=B`, with
+    /// optional `duration=gaussian,mean=0.5,std=0.22` (the League's delayConfig).
+    #[arg(long, default_value = "none")]
+    delays: String,
+    /// adg (the action dependency graph) or naive (the plan's timing).
+    #[arg(long, default_value = "adg")]
+    executor: String,
+    /// Ticks per move (the League's agentCounter).
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = crate::output::parse_count)]
+    ticks_per_move: usize,
+    /// Side of a robot's square footprint, in cells (the League's agentSize), in (0, 1].
+    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
+    agent_size: f64,
+    /// The delays' seed.
+    #[arg(short = 's', long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
+    seed: u64,
+    /// The executed record (JSON).
+    #[arg(short = 'o', long)]
+    out: PathBuf,
+}
+
+/// `mrpp execute` (module doc).
+pub(crate) fn execute(a: &ExecuteArgs) -> Result<u8, Fail> {
+    a.inputs.guard(&[a.plan.as_path()], &[a.out.as_path()])?;
+    let delays = DelayConfig::parse(&a.delays).map_err(Fail)?;
+    let executor = ExecutorKind::parse(&a.executor)
+        .ok_or_else(|| Fail(format!("--executor {}: expected adg or naive", a.executor)))?;
+    let ticks_per_move = u32::try_from(a.ticks_per_move)
+        .ok()
+        .filter(|t| (1..=1000).contains(t))
+        .ok_or_else(|| {
+            Fail(format!(
+                "--ticks-per-move {}: expected 1 to 1000",
+                a.ticks_per_move
+            ))
+        })?;
+    if !(a.agent_size > 0.0 && a.agent_size <= 1.0) {
+        return Err(Fail(format!(
+            "--agent-size {}: expected more than 0 and at most 1 cell",
+            a.agent_size
+        )));
+    }
+    if a.inputs.lorr.is_some() && a.inputs.lifelong {
+        return Err(Fail(
+            "mrpp execute runs one-shot grid plans; executing lifelong runs is not built yet"
+                .into(),
+        ));
+    }
+    let (map, problem, plan) = crate::grid_family::read_valid_plan(&a.inputs, &a.plan)?;
+    let _ = problem;
+    let makespan = plan.paths.iter().map(Vec::len).max().unwrap_or(1) as u64;
+    let cfg = ExecConfig {
+        executor,
+        ticks_per_move,
+        delays,
+        seed: a.seed,
+        agent_size: a.agent_size,
+        // Generous: the plan's length x ticks, with room for every robot to be held often.
+        max_ticks: (makespan + 1) * u64::from(ticks_per_move) * 50 + 100_000,
+    };
+    let run = mrpp_exec::execute(&map, &plan, &cfg);
+    let replayed = check(&map, &plan, &run, ticks_per_move, a.agent_size).map_err(|e| {
+        Fail(format!(
+            "the executed record does not replay (a bug in mrpp): {e}"
+        ))
+    })?;
+    debug_assert_eq!(replayed.len(), run.collisions.len());
+    let xy = |v| {
+        let (x, y) = map.cell(v);
+        json!([x, y])
+    };
+    let agents: Vec<Value> = plan
+        .paths
+        .iter()
+        .enumerate()
+        .map(|(i, path)| {
+            let moves: Vec<(u32, u32)> = path
+                .windows(2)
+                .filter(|w| w[0] != w[1])
+                .map(|w| (w[0], w[1]))
+                .collect();
+            json!({
+                "start": xy(path[0]),
+                "moves": run.moves[i].iter().zip(&moves)
+                    .map(|(t, &(f, to))| json!([t[0], t[1], xy(f), xy(to)]))
+                    .collect::<Vec<_>>(),
+                "delays": run.delays[i],
+            })
+        })
+        .collect();
+    let record = json!({
+        "format": "mrpp-execution/1",
+        "mrpp_version": env!("CARGO_PKG_VERSION"),
+        "plan": file_name(&a.plan),
+        "executor": executor.name(),
+        "delays": cfg.delays.spec(),
+        "seed": a.seed,
+        "ticks_per_move": ticks_per_move,
+        "agent_size": a.agent_size,
+        "ending": run.ending,
+        "ticks": run.ticks,
+        "metrics": run.metrics,
+        "rings": run.rotations,
+        "collisions": run.collisions.iter().take(100).collect::<Vec<_>>(),
+        "agents": agents,
+    });
+    write_atomic(&a.out, serde_json::to_string(&record).expect("json") + "\n")?;
+    let m = run.metrics;
+    say!(
+        "mrpp {} | execute {} | {} | delays {} | {} ticks per move | seed {} | makespan {} ticks ({:.3}x planned), sum of costs {} ({:.3}x) | {} ticks lost to delays, {} waits added | {} collisions | written to {}",
+        env!("CARGO_PKG_VERSION"),
+        file_name(&a.plan),
+        executor.name(),
+        cfg.delays.spec(),
+        ticks_per_move,
+        a.seed,
+        m.makespan,
+        m.makespan_ratio,
+        m.sum_of_costs,
+        m.sum_of_costs_ratio,
+        m.ticks_lost_to_delays,
+        m.waits_added,
+        m.collisions,
+        a.out.display()
+    );
+    let bad = match run.ending {
+        Ending::Finished => None,
+        Ending::Deadlock { tick } => Some(format!("deadlock at tick {tick}")),
+        Ending::TickLimit => Some(format!("still moving after {} ticks", run.ticks)),
+    };
+    if let Some(first) = run.collisions.first() {
+        // Collisions inside a ring rotating together: the plan's geometry, not lateness.
+        let in_ring = run
+            .collisions
+            .iter()
+            .filter(|c| {
+                run.rotations.iter().any(|ring| {
+                    c.robots
+                        .iter()
+                        .all(|r| ring.iter().any(|&(robot, _)| robot == *r))
+                })
+            })
+            .count();
+        if in_ring > 0 {
+            eprintln!(
+                "mrpp: {in_ring} of the collisions are between robots of a ring rotating together (the plan moves them into each other's cells at one step; with --agent-size above 0.5 a ring's corners overlap however it is executed)"
+            );
+        }
+        eprintln!(
+            "mrpp: the execution collided {} times; first at tick {}: robots {} and {} at ({:.2}, {:.2}) and ({:.2}, {:.2})",
+            run.collisions.len(),
+            first.tick,
+            first.robots[0],
+            first.robots[1],
+            first.at[0][0],
+            first.at[0][1],
+            first.at[1][0],
+            first.at[1][1]
+        );
+    }
+    if let Some(why) = &bad {
+        eprintln!("mrpp: the execution did not finish: {why}");
+    }
+    Ok(if run.collisions.is_empty() && bad.is_none() {
+        0
+    } else {
+        3
+    })
+}

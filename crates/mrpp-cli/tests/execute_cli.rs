@@ -1,0 +1,127 @@
+//! Issue 29, item 3 end to end: `mrpp execute` runs a grid plan under seeded delays with the ADG
+//! executor (no collision) or naively (collisions, exit 3), writes the executed record, and
+//! refuses bad delay specs, absurd options and a plan of another map: exit 1, nothing written.
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+fn mrpp(args: &[&str]) -> (Option<i32>, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_mrpp"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .unwrap();
+    (
+        o.status.code(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+const MAP: &str = "data/movingai/random-32-32-20.map";
+
+fn execute(plan: &Path, out: &Path, extra: &[&str]) -> (Option<i32>, String) {
+    let mut args = vec![
+        "execute",
+        "-m",
+        MAP,
+        "--plan",
+        plan.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ];
+    args.extend_from_slice(extra);
+    mrpp(&args)
+}
+
+#[test]
+fn a_plan_runs_late_safely_with_the_adg_and_collides_naively() {
+    let dir = std::env::temp_dir().join(format!("mrpp-execute-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let plan = dir.join("plan.json");
+    let (code, err) = mrpp(&[
+        "solve",
+        "-m",
+        MAP,
+        "-i",
+        "data/movingai/random-32-32-20-random-1.scen",
+        "-N",
+        "60",
+        "-P",
+        "lacam",
+        "-o",
+        plan.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    let delays = [
+        "--delays",
+        "bernoulli:p=0.02,min=1,max=4",
+        "--ticks-per-move",
+        "3",
+        "-s",
+        "5",
+    ];
+    let adg = dir.join("adg.json");
+    let (code, err) = execute(
+        &plan,
+        &adg,
+        &[&delays[..], &["--agent-size", "0.5"]].concat(),
+    );
+    assert_eq!(code, Some(0), "{err}");
+    let record: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&adg).unwrap()).unwrap();
+    assert_eq!(record["format"], "mrpp-execution/1");
+    assert_eq!(record["executor"], "adg");
+    assert_eq!(record["ending"], "finished");
+    assert_eq!(record["agents"].as_array().unwrap().len(), 60);
+    let m = &record["metrics"];
+    assert_eq!(m["collisions"], 0);
+    assert!(m["ticks_lost_to_delays"].as_u64().unwrap() > 0, "{m}");
+    assert!(m["makespan_ratio"].as_f64().unwrap() >= 1.0, "{m}");
+    // The same delays, the plan's timing: collisions, exit 3, the record still written.
+    let naive = dir.join("naive.json");
+    let (code, err) = execute(
+        &plan,
+        &naive,
+        &[&delays[..], &["--agent-size", "0.5", "--executor", "naive"]].concat(),
+    );
+    assert_eq!(code, Some(3), "{err}");
+    assert!(err.contains("collided"), "{err}");
+    assert!(naive.exists());
+    // Bad inputs: named, exit 1, nothing written.
+    let bad = dir.join("bad.json");
+    for (extra, says) in [
+        (
+            vec!["--delays", "bernoulli:p=0.1,min=4,max=2"],
+            "min=4 is above max=2",
+        ),
+        (
+            vec!["--delays", "uniform:p=0.1,min=1,max=2"],
+            "unknown model",
+        ),
+        (vec!["--ticks-per-move", "0"], "must be a whole number from 1"),
+        (vec!["--agent-size", "1.5"], "--agent-size 1.5"),
+        (vec!["--executor", "fast"], "--executor fast"),
+    ] {
+        let (code, err) = execute(&plan, &bad, &extra);
+        assert_eq!(code, Some(1), "{extra:?}: {err}");
+        assert!(err.contains(says), "{extra:?}: {err}");
+        assert!(!bad.exists());
+    }
+    let (code, err) = mrpp(&[
+        "execute",
+        "-m",
+        "data/movingai/empty-8-8.map",
+        "--plan",
+        plan.to_str().unwrap(),
+        "-o",
+        bad.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(!bad.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
