@@ -103,7 +103,10 @@ fn a_plan_runs_late_safely_with_the_adg_and_collides_naively() {
             vec!["--delays", "uniform:p=0.1,min=1,max=2"],
             "unknown model",
         ),
-        (vec!["--ticks-per-move", "0"], "must be a whole number from 1"),
+        (
+            vec!["--ticks-per-move", "0"],
+            "must be a whole number from 1",
+        ),
         (vec!["--agent-size", "1.5"], "--agent-size 1.5"),
         (vec!["--executor", "fast"], "--executor fast"),
     ] {
