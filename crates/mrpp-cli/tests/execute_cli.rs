@@ -23,6 +23,22 @@ fn mrpp(args: &[&str]) -> (Option<i32>, String) {
 
 const MAP: &str = "data/movingai/random-32-32-20.map";
 
+/// `tools/check/execution.py`'s verdict, or `None` without python3 (CI has it).
+fn checker(plan: &Path, trace: &Path) -> Option<serde_json::Value> {
+    let o = Command::new("python3")
+        .arg("tools/check/execution.py")
+        .arg(MAP)
+        .arg(plan)
+        .arg(trace)
+        .current_dir(root())
+        .output()
+        .ok()?;
+    Some(
+        serde_json::from_slice(&o.stdout)
+            .unwrap_or_else(|e| panic!("checker: {e}: {}", String::from_utf8_lossy(&o.stdout))),
+    )
+}
+
 fn execute(plan: &Path, out: &Path, extra: &[&str]) -> (Option<i32>, String) {
     let mut args = vec![
         "execute",
@@ -92,6 +108,32 @@ fn a_plan_runs_late_safely_with_the_adg_and_collides_naively() {
     assert_eq!(code, Some(3), "{err}");
     assert!(err.contains("collided"), "{err}");
     assert!(naive.exists());
+    // The independent checker (Python, standard library) replays both records and agrees on
+    // their collisions and costs; a record with one move made a tick faster is refused.
+    for (trace, collided) in [(&adg, false), (&naive, true)] {
+        if let Some(v) = checker(&plan, trace) {
+            assert_eq!(v["valid"], true, "{v}");
+            let record: serde_json::Value =
+                serde_json::from_str(&std::fs::read_to_string(trace).unwrap()).unwrap();
+            assert_eq!(v["collisions"], record["metrics"]["collisions"]);
+            assert_eq!(v["makespan"], record["metrics"]["makespan"]);
+            assert_eq!(v["collisions"].as_u64().unwrap() > 0, collided);
+        }
+    }
+    let mut tampered = record.clone();
+    let moved = tampered["agents"]
+        .as_array_mut()
+        .unwrap()
+        .iter_mut()
+        .find(|a| !a["moves"].as_array().unwrap().is_empty())
+        .unwrap();
+    let end = moved["moves"][0][1].as_u64().unwrap();
+    moved["moves"][0][1] = serde_json::json!(end - 1);
+    let bad_trace = dir.join("tampered.json");
+    std::fs::write(&bad_trace, tampered.to_string()).unwrap();
+    if let Some(v) = checker(&plan, &bad_trace) {
+        assert_eq!(v["valid"], false, "{v}");
+    }
     // Bad inputs: named, exit 1, nothing written.
     let bad = dir.join("bad.json");
     for (extra, says) in [
