@@ -50,6 +50,14 @@ for model in MAPF_T MAPF; do
     node tools/view-test/view-test.mjs --lifelong target/view-screenshots "$OUT/lifelong-$model.html" "$OUT/lifelong-$model.json"
 done
 
+# A grid plan executed under delays (mrpp execute), naive and ADG.
+for ex in adg naive; do
+    "$MRPP" execute -m data/movingai/random-32-32-20.map --plan "$OUT/grid.json" --delays bernoulli:p=0.02,min=1,max=4 \
+        --executor $ex --ticks-per-move 3 --agent-size 0.5 -s 1 -o "$OUT/exec-$ex.json" >/dev/null 2>&1 || true
+    "$MRPP" view -m data/movingai/random-32-32-20.map --plan "$OUT/exec-$ex.json" --out "$OUT/exec-$ex.html" >/dev/null
+    node tools/view-test/view-test.mjs --execution target/view-screenshots "$OUT/exec-$ex.html" "$OUT/exec-$ex.json"
+done
+
 # 10,000 agents on warehouse-20-40-10-2-2: the page must open and play; the frame time is printed.
 "$MRPP" gen scen --map data/movingai/warehouse-20-40-10-2-2.map --agents 10000 --seed 0 --out "$OUT/warehouse-10k.scen" >/dev/null
 "$MRPP" solve --map data/movingai/warehouse-20-40-10-2-2.map --scen "$OUT/warehouse-10k.scen" --planner lacam \

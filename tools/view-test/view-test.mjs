@@ -110,6 +110,50 @@ if (process.argv[2] === "--lifelong") {
   process.exit(bad.length ? 1 : 0);
 }
 
+// `--execution OUT_DIR PAGE.html RECORD.json`: an executed record's page (`mrpp execute`). At
+// t = 0 every robot is on its start, at the end on its last move's cell, and a robot is marked
+// held at the end of the first tick of each of its delays.
+if (process.argv[2] === "--execution") {
+  const [outDir, pagePath, recordPath] = process.argv.slice(3);
+  mkdirSync(outDir, { recursive: true });
+  const record = JSON.parse(readFileSync(recordPath, "utf8"));
+  const browser = await launch();
+  const page = await browser.newPage({ viewport: { width: 900, height: 700 } });
+  const errors = [];
+  page.on("pageerror", e => errors.push(String(e)));
+  await page.goto(pathToFileURL(pagePath).href);
+  await page.waitForFunction(() => window.mrppView !== undefined);
+  const steps = await page.evaluate(() => window.mrppView.steps);
+  const bad = [...errors];
+  if (steps !== record.ticks) bad.push(`page has ${steps} steps, the record ${record.ticks} ticks`);
+  const at = async t => page.evaluate(t => {
+    const v = window.mrppView;
+    v.setTime(t);
+    return { pos: v.positions(t), held: v.held(t) };
+  }, t);
+  const first = await at(0), last = await at(steps);
+  record.agents.forEach((a, i) => {
+    const end = a.moves.length ? a.moves[a.moves.length - 1][3] : a.start;
+    const near = (p, c) => Math.abs(p[0] - c[0] - 0.5) < 1e-6 && Math.abs(p[1] - c[1] - 0.5) < 1e-6;
+    if (!near(first.pos[i], a.start)) bad.push(`robot ${i}: at t=0 ${JSON.stringify(first.pos[i])}, start ${a.start}`);
+    if (!near(last.pos[i], end)) bad.push(`robot ${i}: at the end ${JSON.stringify(last.pos[i])}, last cell ${end}`);
+  });
+  let checked = 0;
+  for (const [i, a] of record.agents.entries()) {
+    for (const [s] of a.delays) {
+      if (s + 1 > steps || checked > 20) continue;
+      const h = await at(s + 1);
+      if (!h.held[i]) bad.push(`robot ${i}: not marked held after tick ${s}`);
+      checked++;
+    }
+  }
+  await page.screenshot({ path: `${outDir}/${basename(pagePath, ".html")}.png` });
+  await browser.close();
+  console.log(`${bad.length ? "FAIL" : "ok  "} ${basename(pagePath)}: ${record.agents.length} robots, ${steps} ticks, ${checked} delays marked`);
+  if (bad.length) console.log("  " + bad.slice(0, 8).join("\n  "));
+  process.exit(bad.length ? 1 : 0);
+}
+
 const [outDir, ...pairs] = process.argv.slice(2);
 if (!outDir || pairs.length === 0 || pairs.length % 2) {
   console.error("usage: node view-test.mjs OUT_DIR PAGE.html PLAN.json [...]");

@@ -194,3 +194,133 @@ pub(crate) fn execute(a: &ExecuteArgs) -> Result<u8, Fail> {
         3
     })
 }
+
+/// Whether the file at `path` is an executed record (`mrpp-execution/1`).
+pub(crate) fn is_execution_record(path: &std::path::Path) -> bool {
+    std::fs::read_to_string(path)
+        .ok()
+        .and_then(|t| {
+            let head = &t[..t.len().min(200)];
+            head.contains("\"mrpp-execution/1\"").then_some(())
+        })
+        .is_some()
+}
+
+/// The viewer's scene of an executed record ([`crate::view`]): the grid, every robot's point at
+/// the end of each tick (replayed from the record), its start and last cell, `held` change lists
+/// (`[tick, 1]` while a delay holds it, `[tick, 0]` after) that the page marks, and the first
+/// collision as the verdict's conflict.
+pub(crate) fn scene(inputs: &Inputs, record_path: &std::path::Path) -> Result<Value, Fail> {
+    let (map, _) = crate::grid_family::map_of(inputs)?;
+    let text = mrpp_core::error::read_file(record_path)?;
+    let bad = |why: String| Fail(format!("{}: {why}", record_path.display()));
+    let record: Value = serde_json::from_str(&text).map_err(|e| bad(format!("not JSON: {e}")))?;
+    let cell = |v: &Value| -> Result<u32, Fail> {
+        let (x, y) = (v[0].as_i64(), v[1].as_i64());
+        match (x, y) {
+            (Some(x), Some(y)) => map
+                .vertex_at(x, y)
+                .ok_or_else(|| bad(format!("[{x}, {y}] is not a free cell of the map"))),
+            _ => Err(bad(format!("{v} is not a cell [x, y]"))),
+        }
+    };
+    let pair = |v: &Value| -> Result<[u64; 2], Fail> {
+        match (v[0].as_u64(), v[1].as_u64()) {
+            (Some(a), Some(b)) => Ok([a, b]),
+            _ => Err(bad(format!("{v} is not a pair of ticks"))),
+        }
+    };
+    let agents = record["agents"]
+        .as_array()
+        .ok_or_else(|| bad("no `agents`".into()))?;
+    let mut starts = Vec::new();
+    let (mut moves, mut ticks, mut delays) = (Vec::new(), Vec::new(), Vec::new());
+    for a in agents {
+        starts.push(cell(&a["start"])?);
+        let (mut m, mut t) = (Vec::new(), Vec::new());
+        for mv in a["moves"].as_array().into_iter().flatten() {
+            t.push(pair(mv)?);
+            m.push((cell(&mv[2])?, cell(&mv[3])?));
+        }
+        moves.push(m);
+        ticks.push(t);
+        delays.push(
+            a["delays"]
+                .as_array()
+                .into_iter()
+                .flatten()
+                .map(pair)
+                .collect::<Result<Vec<_>, _>>()?,
+        );
+    }
+    let rings: Vec<Vec<(usize, usize)>> =
+        serde_json::from_value(record["rings"].clone()).unwrap_or_default();
+    let ring_of = rings
+        .iter()
+        .enumerate()
+        .flat_map(|(g, r)| r.iter().map(move |&m| (m, g)))
+        .collect();
+    let replay = mrpp_exec::check::Replay {
+        map: &map,
+        starts: &starts,
+        moves: &moves,
+        ticks: &ticks,
+        delays: &delays,
+        rings: &rings,
+        ring_of,
+        c: record["ticks_per_move"].as_u64().unwrap_or(1).max(1),
+    };
+    let total = record["ticks"].as_u64().unwrap_or(0);
+    let n = starts.len();
+    let centre = |v: u32| {
+        let (x, y) = map.cell(v);
+        [f64::from(x) + 0.5, f64::from(y) + 0.5]
+    };
+    let mut paths: Vec<Vec<[f64; 2]>> = starts.iter().map(|&s| vec![centre(s)]).collect();
+    let mut held: Vec<Vec<[u64; 2]>> = vec![Vec::new(); n];
+    for t in 0..total {
+        for (i, p) in replay.at(t).into_iter().enumerate() {
+            paths[i].push([
+                (p[0] * 1000.0).round() / 1000.0,
+                (p[1] * 1000.0).round() / 1000.0,
+            ]);
+            let h = u64::from(replay.held_at(i, t));
+            if held[i].last().map_or(h == 1, |l| l[1] != h) {
+                // Path index t + 1 shows the end of tick t.
+                held[i].push([t + 1, h]);
+            }
+        }
+    }
+    let size = record["agent_size"].as_f64().unwrap_or(1.0);
+    let agents: Vec<Value> = (0..n)
+        .map(|i| {
+            json!({
+                "radius": (size / 2.0).clamp(0.1, 0.5),
+                "start": centre(starts[i]),
+                "goal": paths[i].last().copied().unwrap_or(centre(starts[i])),
+                "path": paths[i],
+                "held": held[i],
+            })
+        })
+        .collect();
+    let collisions = record["metrics"]["collisions"].as_u64().unwrap_or(0);
+    let verdict = match record["collisions"].get(0) {
+        Some(c) => json!({
+            "valid": false,
+            "text": format!("{collisions} collisions; first at tick {}", c["tick"]),
+            "conflict": {"t": c["tick"].as_u64().unwrap_or(0) + 1, "agents": c["robots"], "at": c["at"][0]},
+        }),
+        None => json!({"valid": true, "metrics": record["metrics"]}),
+    };
+    Ok(json!({
+        "family": "execution",
+        "title": format!("{} | {} | delays {}", file_name(record_path), record["executor"].as_str().unwrap_or("?"), record["delays"].as_str().unwrap_or("?")),
+        "about": "",
+        "bounds": [0.0, 0.0, f64::from(map.width()), f64::from(map.height())],
+        "y_up": false,
+        "cells": {"width": map.width(), "height": map.height(), "rows": crate::grid_family::scene_rows(&map)},
+        "polygons": [],
+        "agents": agents,
+        "verdict": verdict,
+    }))
+}

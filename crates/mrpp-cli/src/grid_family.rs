@@ -41,7 +41,7 @@ fn need<'a>(path: &'a Option<PathBuf>, flag: &str) -> Result<&'a Path, Fail> {
 }
 
 /// The map of the grid inputs (`--map`, or the map a `--lorr` problem names) and its path.
-fn map_of(inputs: &Inputs) -> Result<(GridMap, PathBuf), Fail> {
+pub(crate) fn map_of(inputs: &Inputs) -> Result<(GridMap, PathBuf), Fail> {
     if let Some(lorr) = &inputs.lorr {
         let p = mrpp_grid::lorr::load(lorr)?;
         return Ok((p.map, p.map_path));

@@ -12,7 +12,8 @@
 //!   "agents": [{"radius", "start": [x, y], "goal": [x, y], "path": [[x, y], ...]}],
 //!             grids give "cells": [y * width + x, ...] instead of "path" (cell centres);
 //!             lifelong runs add change lists, each entry holding from its step on:
-//!             "goals": [[t, cell or -1, task id or -1], ...], "headings": [[t, 0..3], ...]
+//!             "goals": [[t, cell or -1, task id or -1], ...], "headings": [[t, 0..3], ...];
+//!             executed records (`mrpp execute`) add "held": [[t, 1 | 0], ...] (a delay holds it)
 //!   "series": {"name", "values": [one per step]}   drawn as a small chart (lifelong: tasks finished)
 //!   "verdict": {"valid": true, "metrics": {...}} | {"valid": false, "text", "conflict"?: {"t", "agents", "at"}} }
 //! ```
@@ -51,10 +52,14 @@ pub(crate) fn view(
     if let Some(out) = &out {
         inputs.guard(&[plan], &[out])?;
     }
-    let inputs = &crate::verbs::with_plan_kind(inputs, plan);
-    let family = family_of_inputs(inputs)?;
-    crate::verbs::warn_if_invalid(family, inputs, plan);
-    let scene = family.scene(inputs, plan)?;
+    let scene = if crate::execute_cmd::is_execution_record(plan) {
+        crate::execute_cmd::scene(inputs, plan)?
+    } else {
+        let inputs = &crate::verbs::with_plan_kind(inputs, plan);
+        let family = family_of_inputs(inputs)?;
+        crate::verbs::warn_if_invalid(family, inputs, plan);
+        family.scene(inputs, plan)?
+    };
     let html = page(&scene);
     if let Some(out) = out {
         write_atomic(&out, &html)?;

@@ -14,6 +14,73 @@ use mrpp_mapf::GridMap;
 
 use crate::execute::{Collision, Execution};
 
+/// Robots' points at the end of a tick, from an execution's record (the module's rules).
+pub struct Replay<'a> {
+    pub map: &'a GridMap,
+    /// Each robot's start.
+    pub starts: &'a [VertexId],
+    /// Each robot's moves, `(from, to)`, waits dropped.
+    pub moves: &'a [Vec<(VertexId, VertexId)>],
+    /// Each robot's executed moves `[first tick, tick after]` ([`Execution::moves`]).
+    pub ticks: &'a [Vec<[u64; 2]>],
+    /// Each robot's delays ([`Execution::delays`]).
+    pub delays: &'a [Vec<[u64; 2]>],
+    /// Rings executed jointly ([`Execution::rotations`]).
+    pub rings: &'a [Vec<(usize, usize)>],
+    /// The ring of each `(robot, move)` executed jointly (index into `rings`).
+    pub ring_of: std::collections::HashMap<(usize, usize), usize>,
+    /// Ticks per move.
+    pub c: u64,
+}
+
+impl Replay<'_> {
+    /// Ticks in `[a, b)` on which some robot of ring `g` is held.
+    pub fn ring_held(&self, g: usize, a: u64, b: u64) -> u64 {
+        (a..b)
+            .filter(|&t| {
+                self.rings[g]
+                    .iter()
+                    .any(|&(j, _)| held(&self.delays[j], t, t + 1) > 0)
+            })
+            .count() as u64
+    }
+
+    /// Whether robot `i` is held during tick `t`.
+    pub fn held_at(&self, i: usize, t: u64) -> bool {
+        held(&self.delays[i], t, t + 1) > 0
+    }
+
+    /// Every robot's point (cell centres, `[x, y]`) at the end of tick `tick`.
+    pub fn at(&self, tick: u64) -> Vec<[f64; 2]> {
+        let centre = |v: VertexId| {
+            let (x, y) = self.map.cell(v);
+            [f64::from(x) + 0.5, f64::from(y) + 0.5]
+        };
+        (0..self.starts.len())
+            .map(|i| {
+                let rec = &self.ticks[i];
+                // Moves finished by the end of this tick, and the one under way.
+                let finished = rec.partition_point(|m| m[1] <= tick + 1);
+                match rec.get(finished).filter(|m| m[0] <= tick) {
+                    Some(&[a, _]) => {
+                        let stopped = match self.ring_of.get(&(i, finished)) {
+                            Some(&g) => self.ring_held(g, a, tick + 1),
+                            None => held(&self.delays[i], a, tick + 1),
+                        };
+                        let p = (tick + 1 - a) - stopped;
+                        let (from, to) = self.moves[i][finished];
+                        let (s, e) = (centre(from), centre(to));
+                        let f = p as f64 / self.c as f64;
+                        [s[0] + (e[0] - s[0]) * f, s[1] + (e[1] - s[1]) * f]
+                    }
+                    None if finished == 0 => centre(self.starts[i]),
+                    None => centre(self.moves[i][finished - 1].1),
+                }
+            })
+            .collect()
+    }
+}
+
 /// Held ticks of `delays` (sorted, disjoint) within `[a, b)`.
 fn held(delays: &[[u64; 2]], a: u64, b: u64) -> u64 {
     delays
@@ -78,15 +145,18 @@ pub fn check(
             ring_of.insert((i, k), g);
         }
     }
-    let ring_held = |g: usize, a: u64, b: u64| {
-        (a..b)
-            .filter(|&t| {
-                exec.rotations[g]
-                    .iter()
-                    .any(|&(j, _)| held(&exec.delays[j], t, t + 1) > 0)
-            })
-            .count() as u64
+    let starts: Vec<VertexId> = plan.paths.iter().map(|p| p[0]).collect();
+    let replay = Replay {
+        map,
+        starts: &starts,
+        moves: &moves,
+        ticks: &exec.moves,
+        delays: &exec.delays,
+        rings: &exec.rotations,
+        ring_of: ring_of.clone(),
+        c,
     };
+    let ring_held = |g: usize, a: u64, b: u64| replay.ring_held(g, a, b);
     for (i, (rec, dl)) in exec.moves.iter().zip(&exec.delays).enumerate() {
         for w in dl.windows(2) {
             if w[1][0] < w[0][1] {
@@ -144,34 +214,9 @@ pub fn check(
             moves[i].len()
         ));
     }
-    let centre = |v: VertexId| {
-        let (x, y) = map.cell(v);
-        [f64::from(x) + 0.5, f64::from(y) + 0.5]
-    };
     let mut found = Vec::new();
     for tick in 0..exec.ticks {
-        let points: Vec<[f64; 2]> = (0..n)
-            .map(|i| {
-                let rec = &exec.moves[i];
-                // Moves finished by the end of this tick, and the one under way.
-                let finished = rec.partition_point(|m| m[1] <= tick + 1);
-                match rec.get(finished).filter(|m| m[0] <= tick) {
-                    Some(&[a, _]) => {
-                        let stopped = match ring_of.get(&(i, finished)) {
-                            Some(&g) => ring_held(g, a, tick + 1),
-                            None => held(&exec.delays[i], a, tick + 1),
-                        };
-                        let p = (tick + 1 - a) - stopped;
-                        let (from, to) = moves[i][finished];
-                        let (s, e) = (centre(from), centre(to));
-                        let f = p as f64 / c as f64;
-                        [s[0] + (e[0] - s[0]) * f, s[1] + (e[1] - s[1]) * f]
-                    }
-                    None if finished == 0 => centre(plan.paths[i][0]),
-                    None => centre(moves[i][finished - 1].1),
-                }
-            })
-            .collect();
+        let points = replay.at(tick);
         overlaps(&points, agent_size, tick, &mut found);
     }
     let key = |c: &Collision| (c.tick, c.robots);
