@@ -1,5 +1,6 @@
 //! League of Robot Runners problems run lifelong, as a sweep (issue 28, item 7): every problem x
-//! scheduler x guidance x run of `lifelong-pibt`, and optionally a peer program (the League's
+//! lifelong planner x scheduler x guidance x run (planners `lifelong-pibt` by default, or
+//! `lifelong-lns`), and optionally a peer program (the League's
 //! start kit, built by hand) once per problem, all measured in tasks finished over the same
 //! steps, and every run checked by mrpp's lifelong validator (the kit's rules replayed).
 //!
@@ -26,6 +27,7 @@ use crate::sweep::PeerSpec;
 use mrpp_core::error::{Error, Result};
 use mrpp_core::seeds::derive_seed;
 use mrpp_core::{Ctx, Deadline, Problem, Unsolved, solve};
+use mrpp_lifelong::PLANNERS;
 use mrpp_lifelong::lorr_output::from_json;
 use mrpp_lifelong::problem::replay;
 use mrpp_lifelong::runner::PIBT_ENTRY;
@@ -44,9 +46,11 @@ pub struct LorrConfig {
     /// Time before step 0 (the kit's `--preprocessTimeLimit`).
     pub preprocess_time: Duration,
     pub model: ActionModel,
-    /// `lifelong-pibt`'s `scheduler` values to run.
+    /// Lifelong planners to run, by registry name.
+    pub planners: Vec<String>,
+    /// The planners' `scheduler` values to run.
     pub schedulers: Vec<String>,
-    /// `lifelong-pibt`'s `guidance` values to run.
+    /// The planners' `guidance` values to run.
     pub guidance: Vec<String>,
     /// Runs (seeds) per configuration.
     pub runs: usize,
@@ -56,9 +60,10 @@ pub struct LorrConfig {
 /// One run of the sweep.
 #[derive(Debug, Clone)]
 pub enum LorrJob {
-    /// `lifelong-pibt` on problem `problem` with scheduler and guidance by index, run `run`.
+    /// A planner on problem `problem` with scheduler and guidance by index, run `run`.
     Mrpp {
         problem: usize,
+        planner: usize,
         scheduler: usize,
         guidance: usize,
         run: usize,
@@ -73,7 +78,7 @@ pub struct LorrRow {
     pub problem: String,
     pub robots: usize,
     pub free_cells: usize,
-    /// `lifelong-pibt` or the peer's name.
+    /// The planner's or the peer's name.
     pub program: String,
     pub scheduler: String,
     pub guidance: String,
@@ -120,12 +125,18 @@ impl LorrSweep {
         if cfg.runs == 0 {
             return Err(Error::Param("--runs must be at least 1".into()));
         }
-        for s in &cfg.schedulers {
-            for g in &cfg.guidance {
-                PIBT_ENTRY.instantiate(&[
-                    ("scheduler".into(), s.clone()),
-                    ("guidance".into(), g.clone()),
-                ])?;
+        if cfg.planners.is_empty() {
+            return Err(Error::Param("no planner to run".into()));
+        }
+        for name in &cfg.planners {
+            let entry = planner_entry(name)?;
+            for s in &cfg.schedulers {
+                for g in &cfg.guidance {
+                    entry.instantiate(&[
+                        ("scheduler".into(), s.clone()),
+                        ("guidance".into(), g.clone()),
+                    ])?;
+                }
             }
         }
         if let Some(peer) = &cfg.peer {
@@ -151,15 +162,18 @@ impl LorrSweep {
             if cfg.peer.is_some() {
                 jobs.push(LorrJob::Peer { problem });
             }
-            for scheduler in 0..cfg.schedulers.len() {
-                for guidance in 0..cfg.guidance.len() {
-                    for run in 0..cfg.runs {
-                        jobs.push(LorrJob::Mrpp {
-                            problem,
-                            scheduler,
-                            guidance,
-                            run,
-                        });
+            for planner in 0..cfg.planners.len() {
+                for scheduler in 0..cfg.schedulers.len() {
+                    for guidance in 0..cfg.guidance.len() {
+                        for run in 0..cfg.runs {
+                            jobs.push(LorrJob::Mrpp {
+                                problem,
+                                planner,
+                                scheduler,
+                                guidance,
+                                run,
+                            });
+                        }
                     }
                 }
             }
@@ -296,6 +310,17 @@ impl LorrSweep {
     }
 }
 
+/// The lifelong planner named `name`.
+fn planner_entry(name: &str) -> Result<&'static mrpp_core::PlannerEntry<LifelongProblem>> {
+    PLANNERS.iter().find(|e| e.name == name).ok_or_else(|| {
+        let known: Vec<&str> = PLANNERS.iter().map(|e| e.name).collect();
+        Error::Param(format!(
+            "unknown lifelong planner {name} (known: {})",
+            known.join(", ")
+        ))
+    })
+}
+
 fn check_placeholders(command: &str) -> Result<()> {
     for needed in ["problem", "out"] {
         if !command.contains(&format!("{{{needed}}}")) {
@@ -333,15 +358,26 @@ impl Sweep for LorrSweep {
         match *job {
             LorrJob::Mrpp {
                 problem,
+                planner,
                 scheduler,
                 guidance,
                 run,
-            } => format!(
-                "{}/{}/{}/{run}",
-                self.problems[problem].0,
-                self.cfg.schedulers[scheduler],
-                self.cfg.guidance[guidance]
-            ),
+            } => {
+                // lifelong-pibt's keys (and so its seeds) are those of the sweeps before
+                // other planners could be run.
+                let name = &self.cfg.planners[planner];
+                let planner = if name == PIBT_ENTRY.name {
+                    String::new()
+                } else {
+                    format!("{name}/")
+                };
+                format!(
+                    "{}/{planner}{}/{}/{run}",
+                    self.problems[problem].0,
+                    self.cfg.schedulers[scheduler],
+                    self.cfg.guidance[guidance]
+                )
+            }
             LorrJob::Peer { problem } => format!(
                 "{}/peer/{}",
                 self.problems[problem].0,
@@ -350,24 +386,26 @@ impl Sweep for LorrSweep {
         }
     }
     fn run(&self, job: &LorrJob) -> Result<LorrRow> {
-        let (problem, scheduler, guidance, run) = match *job {
+        let (problem, planner, scheduler, guidance, run) = match *job {
             LorrJob::Peer { problem } => {
                 let peer = self.cfg.peer.as_ref().expect("a peer job has a peer");
                 return Ok(self.run_peer(problem, peer));
             }
             LorrJob::Mrpp {
                 problem,
+                planner,
                 scheduler,
                 guidance,
                 run,
-            } => (problem, scheduler, guidance, run),
+            } => (problem, planner, scheduler, guidance, run),
         };
-        let mut row = self.row(problem, PIBT_ENTRY.name);
+        let entry = planner_entry(&self.cfg.planners[planner])?;
+        let mut row = self.row(problem, entry.name);
         row.scheduler = self.cfg.schedulers[scheduler].clone();
         row.guidance = self.cfg.guidance[guidance].clone();
         row.run = run;
         row.seed = derive_seed(self.cfg.seed, &self.key(job));
-        let planner = PIBT_ENTRY.instantiate(&[
+        let planner = entry.instantiate(&[
             ("scheduler".into(), row.scheduler.clone()),
             ("guidance".into(), row.guidance.clone()),
         ])?;

@@ -68,11 +68,11 @@ pub enum Experiment {
         after_help = "Examples (from the repository's root):\n  mrpp experiment hbmo --runs 5 -o out/hbmo\n  mrpp experiment hbmo --runs 30 --planners hbmo,orca -p guide=goal -o out/hbmo-goal"
     )]
     Hbmo(HbmoArgs),
-    /// League of Robot Runners problems run lifelong: lifelong-pibt per scheduler x guidance x
-    /// run, and optionally a peer program (the League's start kit) on the same files, in tasks
+    /// League of Robot Runners problems run lifelong: each lifelong planner per scheduler x
+    /// guidance x run, and optionally a peer program (the League's start kit) on the same files, in tasks
     /// finished; every run replayed by the lifelong validator.
     #[command(
-        after_help = "Examples (from the repository's root):\n  mrpp experiment lorr data/robot-runners/lorr2026-maze/maze-example_40.json --steps 500 --schedulers greedy,hungarian -o out/lorr\n  mrpp experiment lorr data/robot-runners/lorr2023-warehouse_small/warehouse_small_10.json --steps 200 --runs 3 --jobs 1 -o out/lorr-small\n\nA peer, e.g. the League's start kit built by hand: --peer 'kit=cd /path/Start-Kit && ./build/lifelong -i {problem} -o {out} --simulationTime {steps} --planTimeLimit {step_ms} --preprocessTimeLimit {preprocess_ms}' (placeholders: {problem} {steps} {step_ms} {preprocess_ms} {out}, the League's output JSON it must write). Runs go in parallel on the machine's cores; --jobs 1 runs them one at a time (each run is timed per step)."
+        after_help = "Examples (from the repository's root):\n  mrpp experiment lorr data/robot-runners/lorr2026-maze/maze-example_40.json --steps 500 --schedulers greedy,hungarian -o out/lorr\n  mrpp experiment lorr data/robot-runners/lorr2026-maze/maze-example_40.json --steps 300 --planners lifelong-pibt,lifelong-lns --schedulers hungarian --jobs 1 -o out/lorr-lns\n  mrpp experiment lorr data/robot-runners/lorr2023-warehouse_small/warehouse_small_10.json --steps 200 --runs 3 --jobs 1 -o out/lorr-small\n\nA peer, e.g. the League's start kit built by hand: --peer 'kit=cd /path/Start-Kit && ./build/lifelong -i {problem} -o {out} --simulationTime {steps} --planTimeLimit {step_ms} --preprocessTimeLimit {preprocess_ms}' (placeholders: {problem} {steps} {step_ms} {preprocess_ms} {out}, the League's output JSON it must write). Runs go in parallel on the machine's cores; --jobs 1 runs them one at a time (each run is timed per step)."
     )]
     Lorr(LorrArgs),
 }
@@ -94,10 +94,13 @@ pub struct LorrArgs {
     /// MAPF_T (orientation, the League's) or MAPF.
     #[arg(long, default_value = "MAPF_T")]
     action_model: String,
-    /// lifelong-pibt's schedulers to run (comma-separated).
+    /// Lifelong planners to run (comma-separated; `mrpp planners --family lifelong`).
+    #[arg(long, value_delimiter = ',', default_value = "lifelong-pibt")]
+    planners: Vec<String>,
+    /// The planners' schedulers to run (comma-separated).
     #[arg(long, value_delimiter = ',', default_value = "greedy,hungarian")]
     schedulers: Vec<String>,
-    /// lifelong-pibt's guidance values to run (comma-separated).
+    /// The planners' guidance values to run (comma-separated).
     #[arg(long, value_delimiter = ',', default_value = "auto")]
     guidance: Vec<String>,
     /// Runs (seeds) per configuration.
@@ -360,6 +363,7 @@ pub fn run(cmd: Experiment, merge: Option<Mode>) -> Result<u8, Fail> {
                 step_time: seconds("step-time-limit", a.step_time_limit)?,
                 preprocess_time: seconds("preprocess-time-limit", a.preprocess_time_limit)?,
                 model,
+                planners: a.planners.clone(),
                 schedulers: a.schedulers.clone(),
                 guidance: a.guidance.clone(),
                 runs: a.runs,

@@ -199,6 +199,11 @@ impl TurnDistances {
         self.cache.live.len()
     }
 
+    /// Whether the table of `to` is built (so [`Self::get`] for `to` is a look-up).
+    pub fn has(&self, to: VertexId) -> bool {
+        self.cache.tables[to as usize].is_some()
+    }
+
     /// Actions from `v` facing `o` until standing on `to` ([`UNREACHABLE`] in another component).
     pub fn get(&mut self, v: VertexId, o: u8, to: VertexId) -> u32 {
         let (narrow, next) = (self.narrow, &self.next);

@@ -22,6 +22,7 @@ pub mod rotation_pibt;
 pub mod runner;
 pub mod scheduler;
 pub mod sim;
+pub mod window_lns;
 
 pub use model::{Action, ActionModel, State};
 pub use problem::{LifelongMetrics, LifelongProblem, LifelongViolation, Trace};
@@ -32,4 +33,4 @@ use mrpp_core::PlannerEntry;
 pub const FAMILY: &str = "lifelong";
 
 /// Every lifelong planner, in the order `mrpp planners` lists them.
-pub static PLANNERS: &[PlannerEntry<LifelongProblem>] = &[runner::PIBT_ENTRY];
+pub static PLANNERS: &[PlannerEntry<LifelongProblem>] = &[runner::PIBT_ENTRY, runner::LNS_ENTRY];

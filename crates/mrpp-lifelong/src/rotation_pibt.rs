@@ -33,8 +33,8 @@ use mrpp_core::mapf::graph::VertexId;
 
 use crate::distances::{Distances, TurnDistances, plus};
 use crate::guide_paths::GuidePaths;
-use crate::model::{Action, ActionModel, direction, turns};
-use crate::sim::Simulation;
+use crate::model::{Action, ActionModel, State, direction, turns};
+use crate::problem::LifelongProblem;
 
 const NIL: usize = usize::MAX;
 const UNSET: VertexId = VertexId::MAX;
@@ -99,17 +99,17 @@ impl RotationPibt {
     /// (`MAPF_T`), by the actions to the goal counting quarter turns ([`TurnDistances`]).
     pub fn step(
         &mut self,
-        sim: &Simulation<'_>,
+        problem: &LifelongProblem,
+        states: &[State],
         goals: &[VertexId],
         dist: &mut Distances,
         mut guide: Option<&mut GuidePaths>,
         mut turn_tables: Option<&mut TurnDistances>,
     ) -> Vec<Action> {
-        let problem = sim.problem();
         let map = problem.map();
         let graph = map.graph();
-        let n = sim.states.len();
-        for (i, s) in sim.states.iter().enumerate() {
+        let n = states.len();
+        for (i, s) in states.iter().enumerate() {
             self.now[i] = s.vertex;
             self.next[i] = UNSET;
             self.occupied_now[s.vertex as usize] = i;
@@ -130,7 +130,7 @@ impl RotationPibt {
         // Candidates, best first.
         let mut verts = Vec::with_capacity(5);
         let mut d = Vec::with_capacity(5);
-        for (i, (&s, &goal)) in sim.states.iter().zip(goals).enumerate() {
+        for (i, (&s, &goal)) in states.iter().zip(goals).enumerate() {
             verts.clear();
             verts.push(s.vertex);
             verts.extend_from_slice(graph.neighbors(s.vertex));
@@ -209,7 +209,7 @@ impl RotationPibt {
                     }
                 })
                 .collect(),
-            ActionModel::MapfT => self.with_rotations(sim),
+            ActionModel::MapfT => self.with_rotations(problem, states),
         };
         for i in 0..n {
             self.occupied_now[self.now[i] as usize] = NIL;
@@ -245,9 +245,9 @@ impl RotationPibt {
     }
 
     /// The `MAPF_T` joint action of the chosen cells (module doc).
-    fn with_rotations(&mut self, sim: &Simulation<'_>) -> Vec<Action> {
-        let map = sim.problem().map();
-        let n = sim.states.len();
+    fn with_rotations(&mut self, problem: &LifelongProblem, states: &[State]) -> Vec<Action> {
+        let map = problem.map();
+        let n = states.len();
         let mut actions = vec![Action::Wait; n];
         let mut stays = Vec::new();
         let turn_to = |o, d| {
@@ -257,7 +257,7 @@ impl RotationPibt {
                 Action::CounterClockwise
             }
         };
-        for (i, &s) in sim.states.iter().enumerate() {
+        for (i, &s) in states.iter().enumerate() {
             self.committed[i] = UNSET;
             if self.next[i] == s.vertex {
                 stays.push(i);

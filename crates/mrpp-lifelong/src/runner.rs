@@ -28,9 +28,10 @@ use crate::problem::{Assign, LifelongProblem, ScheduleErrorRecord, Trace};
 use crate::rotation_pibt::RotationPibt;
 use crate::scheduler::{SchedulerKind, schedule};
 use crate::sim::Simulation;
+use crate::window_lns::{LnsOptions, WindowLns};
 
-/// lifelong-pibt's parameters: the scheduler and the guide paths.
-const PIBT_PARAMS: [Param; 5] = [
+/// lifelong-pibt's parameters: the scheduler, the guide paths and windowed LNS.
+const PIBT_PARAMS: [Param; 8] = [
     Param {
         name: "scheduler",
         default: "greedy",
@@ -56,6 +57,21 @@ const PIBT_PARAMS: [Param; 5] = [
         default: "hops",
         doc: "how a robot without a guide path ranks its cells under MAPF_T: hops = moves to the goal, then fewer turns; turns = actions to the goal counting quarter turns, from tables over (cell, orientation)",
     },
+    Param {
+        name: "window",
+        default: "0",
+        doc: "0 = one PIBT step per call; W > 0 = plan W steps ahead (PIBT rollout or the last plan shifted) and refine them by large neighbourhood search within the step's time (WPPL; Jiang et al., SoCS 2024)",
+    },
+    Param {
+        name: "lns_iterations",
+        default: "2000",
+        doc: "with window > 0: neighbourhoods re-planned per step at most (fewer when the step's time runs out first)",
+    },
+    Param {
+        name: "lns_group",
+        default: "8",
+        doc: "with window > 0: robots re-planned together in one neighbourhood at most",
+    },
 ];
 
 /// Rolling PIBT with rotations in the planner registry.
@@ -63,24 +79,60 @@ pub const PIBT_ENTRY: PlannerEntry<LifelongProblem> = PlannerEntry {
     name: "lifelong-pibt",
     about: "lifelong PIBT, one step per call, rotation-aware, on traffic-flow guide paths (the LoRR start kit's default planner; Okumura et al., AIJ 2022; Chen et al., AAAI 2024)",
     params: &PIBT_PARAMS,
-    build: |p| {
-        let scheduler = match p.choice("scheduler", &["greedy", "hungarian"])? {
-            0 => SchedulerKind::Greedy,
-            _ => SchedulerKind::Hungarian,
-        };
-        Ok(Box::new(LifelongPibt {
-            scheduler,
-            hungarian_max: p.get_in("hungarian_max", 1..=5000)?,
-            guidance: match p.choice("guidance", &["auto", "none", "traffic-flow"])? {
-                0 => Guidance::Auto,
-                1 => Guidance::None,
-                _ => Guidance::TrafficFlow,
-            },
-            guide_replans: p.get_in("guide_replans", 0..=1_000_000)?,
-            turn_distances: p.choice("distances", &["hops", "turns"])? == 1,
-        }))
-    },
+    build: |p| Ok(Box::new(build(PIBT_ENTRY.name, p)?)),
 };
+
+/// lifelong-lns's parameters: lifelong-pibt's, with a window of 10 steps.
+const LNS_PARAMS: [Param; 8] = [
+    PIBT_PARAMS[0],
+    PIBT_PARAMS[1],
+    PIBT_PARAMS[2],
+    PIBT_PARAMS[3],
+    PIBT_PARAMS[4],
+    Param {
+        name: "window",
+        default: "10",
+        doc: PIBT_PARAMS[5].doc,
+    },
+    PIBT_PARAMS[6],
+    PIBT_PARAMS[7],
+];
+
+/// Windowed PIBT refined by LNS in the planner registry ([`crate::window_lns`]).
+pub const LNS_ENTRY: PlannerEntry<LifelongProblem> = PlannerEntry {
+    name: "lifelong-lns",
+    about: "lifelong windowed planning: PIBT rolled out W steps (or the last plan shifted), refined by large neighbourhood search within the step's time (WPPL, the LoRR 2023 winner; Jiang et al., SoCS 2024; Li et al., AAAI 2022)",
+    params: &LNS_PARAMS,
+    build: |p| Ok(Box::new(build(LNS_ENTRY.name, p)?)),
+};
+
+/// The planner of either entry from its checked parameters.
+fn build(name: &'static str, p: &mrpp_core::Params) -> mrpp_core::Result<LifelongPibt> {
+    let scheduler = match p.choice("scheduler", &["greedy", "hungarian"])? {
+        0 => SchedulerKind::Greedy,
+        _ => SchedulerKind::Hungarian,
+    };
+    Ok(LifelongPibt {
+        name,
+        scheduler,
+        hungarian_max: p.get_in("hungarian_max", 1..=5000)?,
+        guidance: match p.choice("guidance", &["auto", "none", "traffic-flow"])? {
+            0 => Guidance::Auto,
+            1 => Guidance::None,
+            _ => Guidance::TrafficFlow,
+        },
+        guide_replans: p.get_in("guide_replans", 0..=1_000_000)?,
+        turn_distances: p.choice("distances", &["hops", "turns"])? == 1,
+        lns: match p.get_in("window", 0..=64)? {
+            0 => None,
+            window => Some(LnsOptions {
+                window,
+                iterations: p.get_in("lns_iterations", 0..=10_000_000)?,
+                group: p.get_in("lns_group", 1..=1000)?,
+            }),
+        },
+    })
+}
 
 /// Whether lifelong-pibt follows guide paths ([`crate::guide_paths`]).
 ///
@@ -106,6 +158,8 @@ pub const AUTO_DENSITY: f64 = 0.02;
 /// paths ([`crate::guide_paths`]).
 #[derive(Debug, Clone, Copy)]
 pub struct LifelongPibt {
+    /// The registry name it was built under.
+    pub name: &'static str,
     pub scheduler: SchedulerKind,
     pub hungarian_max: usize,
     /// Whether robots follow traffic-flow guide paths.
@@ -114,17 +168,20 @@ pub struct LifelongPibt {
     pub guide_replans: usize,
     /// Under `MAPF_T`, rank cells by rotation-aware distances ([`TurnDistances`]).
     pub turn_distances: bool,
+    /// Plan a window ahead and refine it by LNS ([`crate::window_lns`]); `None`: one PIBT step.
+    pub lns: Option<LnsOptions>,
 }
 
 impl Planner<LifelongProblem> for LifelongPibt {
     fn name(&self) -> &str {
-        PIBT_ENTRY.name
+        self.name
     }
 
     fn plan(&self, problem: &LifelongProblem, ctx: &Ctx) -> Result<Trace, Unsolved> {
         let vertices = problem.map().graph().num_vertices();
         let n = problem.starts().len();
         let mut pibt = RotationPibt::new(n, vertices, ctx.seed);
+        let mut windowed = self.lns.map(|o| WindowLns::new(problem, o, ctx.seed));
         let guided = match self.guidance {
             Guidance::None => false,
             Guidance::TrafficFlow => true,
@@ -133,7 +190,7 @@ impl Planner<LifelongProblem> for LifelongPibt {
         let mut guide = guided.then(|| GuidePaths::new(problem.map(), n, self.guide_replans));
         // Built during preprocessing and used by every step: shared by the two closures.
         let turn_tables = std::cell::RefCell::new(
-            (self.turn_distances && problem.model() == ActionModel::MapfT)
+            ((self.turn_distances || self.lns.is_some()) && problem.model() == ActionModel::MapfT)
                 .then(|| TurnDistances::new(problem.map(), DEFAULT_BUDGET / 2)),
         );
         let mut cells = Vec::with_capacity(n);
@@ -164,13 +221,51 @@ impl Planner<LifelongProblem> for LifelongPibt {
             if let Some(g) = guide.as_mut() {
                 cells.clear();
                 cells.extend(sim.states.iter().map(|s| s.vertex));
-                // Leave a tenth of the budget for PIBT.
-                let left = (budget * 9 / 10).saturating_sub(started.elapsed());
+                // Leave a tenth of the budget for PIBT, or with a window 40% for the rollout
+                // and LNS.
+                let share = if windowed.is_some() { 6 } else { 9 };
+                let left = (budget * share / 10).saturating_sub(started.elapsed());
                 let graph = problem.map().graph();
                 g.update(&cells, &goals, sim.t, dist, graph, Deadline::after(left));
             }
             let mut turns = turn_tables.borrow_mut();
-            let actions = pibt.step(sim, &goals, dist, guide.as_mut(), turns.as_mut());
+            let actions = match windowed.as_mut() {
+                None => pibt.step(
+                    problem,
+                    &sim.states,
+                    &goals,
+                    dist,
+                    guide.as_mut(),
+                    turns.as_mut().filter(|_| self.turn_distances),
+                ),
+                Some(w) => {
+                    // LNS until 85% of the budget has passed.
+                    let left = (budget * 85 / 100).saturating_sub(started.elapsed());
+                    // The errand after each robot's next one, in the same task.
+                    let seconds: Vec<VertexId> = proposal
+                        .iter()
+                        .map(|task| {
+                            task.and_then(|k| {
+                                let t = &sim.tasks[k];
+                                t.errands.get(t.done + 1).copied()
+                            })
+                            .unwrap_or(VertexId::MAX)
+                        })
+                        .collect();
+                    w.step(
+                        problem,
+                        &sim.states,
+                        &goals,
+                        &seconds,
+                        &mut pibt,
+                        dist,
+                        guide.as_mut(),
+                        turns.as_mut(),
+                        self.turn_distances,
+                        Deadline::after(left),
+                    )
+                }
+            };
             (actions, proposal)
         })
     }

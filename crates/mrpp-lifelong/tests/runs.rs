@@ -26,16 +26,18 @@ fn every_planner_finishes_tasks_and_its_output_reads_back() {
             let problem =
                 LifelongProblem::load(&data(example), model, 200, Duration::from_secs(1)).unwrap();
             for entry in PLANNERS {
-                for (scheduler, guidance, distances) in [
-                    ("greedy", "none", "hops"),
-                    ("hungarian", "none", "hops"),
-                    ("greedy", "traffic-flow", "hops"),
-                    ("hungarian", "traffic-flow", "hops"),
-                    ("greedy", "none", "turns"),
-                    ("hungarian", "none", "turns"),
+                for (scheduler, guidance, distances, window) in [
+                    ("greedy", "none", "hops", "0"),
+                    ("hungarian", "none", "hops", "0"),
+                    ("greedy", "traffic-flow", "hops", "0"),
+                    ("hungarian", "traffic-flow", "hops", "0"),
+                    ("greedy", "none", "turns", "0"),
+                    ("hungarian", "none", "turns", "0"),
+                    ("hungarian", "traffic-flow", "hops", "8"),
+                    ("greedy", "none", "turns", "5"),
                 ] {
                     let what = format!(
-                        "{example}, {}, {}, {scheduler}, {guidance}, {distances}",
+                        "{example}, {}, {}, {scheduler}, {guidance}, {distances}, window {window}",
                         model.name(),
                         entry.name
                     );
@@ -44,6 +46,8 @@ fn every_planner_finishes_tasks_and_its_output_reads_back() {
                             ("scheduler".into(), scheduler.into()),
                             ("guidance".into(), guidance.into()),
                             ("distances".into(), distances.into()),
+                            ("window".into(), window.into()),
+                            ("lns_iterations".into(), "200".into()),
                         ])
                         .unwrap();
                     let ctx = Ctx {
@@ -73,6 +77,36 @@ fn every_planner_finishes_tasks_and_its_output_reads_back() {
     }
 }
 
+/// Windowed LNS (`-p window=W`) against one PIBT step per call, same seed and scheduler, on
+/// the bundled maze (40 robots) under both action models: LNS never finishes fewer tasks.
+#[test]
+fn windowed_lns_finishes_at_least_as_many_tasks_as_pibt() {
+    for model in [ActionModel::MapfT, ActionModel::Mapf] {
+        let problem =
+            LifelongProblem::load(&data(EXAMPLES[1]), model, 300, Duration::from_secs(1)).unwrap();
+        let tasks = |window: &str| {
+            let planner = PLANNERS[0]
+                .instantiate(&[
+                    ("scheduler".into(), "hungarian".into()),
+                    ("window".into(), window.into()),
+                    ("lns_iterations".into(), "500".into()),
+                ])
+                .unwrap();
+            let ctx = Ctx {
+                seed: 1,
+                ..Ctx::default()
+            };
+            solve(planner.as_ref(), &problem, &ctx)
+                .unwrap()
+                .metrics
+                .tasks_finished
+        };
+        let (pibt, lns) = (tasks("0"), tasks("10"));
+        eprintln!("{}: PIBT {pibt}, windowed LNS {lns}", model.name());
+        assert!(lns >= pibt, "{}: LNS {lns} < PIBT {pibt}", model.name());
+    }
+}
+
 #[test]
 fn a_run_is_reproducible_from_its_seed() {
     let problem = LifelongProblem::load(
@@ -82,18 +116,24 @@ fn a_run_is_reproducible_from_its_seed() {
         Duration::from_secs(1),
     )
     .unwrap();
-    let planner = PLANNERS[0]
-        .instantiate(&[("guidance".into(), "traffic-flow".into())])
-        .unwrap();
-    let run = |seed| {
-        let ctx = Ctx {
-            seed,
-            ..Ctx::default()
+    for window in ["0", "6"] {
+        let planner = PLANNERS[0]
+            .instantiate(&[
+                ("guidance".into(), "traffic-flow".into()),
+                ("window".into(), window.into()),
+                ("lns_iterations".into(), "100".into()),
+            ])
+            .unwrap();
+        let run = |seed| {
+            let ctx = Ctx {
+                seed,
+                ..Ctx::default()
+            };
+            solve(planner.as_ref(), &problem, &ctx)
+                .unwrap()
+                .plan
+                .actions
         };
-        solve(planner.as_ref(), &problem, &ctx)
-            .unwrap()
-            .plan
-            .actions
-    };
-    assert_eq!(run(3), run(3));
+        assert_eq!(run(3), run(3));
+    }
 }

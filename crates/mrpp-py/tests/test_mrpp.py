@@ -96,7 +96,7 @@ def test_lifelong_league_of_robot_runners_run():
     path = DATA / "robot-runners/lorr2026-maze/maze-example_40.json"
     problem = mrpp.Problem.lorr(path, lifelong=True, steps=200)
     assert problem.family == "lifelong" and problem.num_agents == 40
-    assert [p.name for p in mrpp.planners("lifelong")] == ["lifelong-pibt"]
+    assert [p.name for p in mrpp.planners("lifelong")] == ["lifelong-pibt", "lifelong-lns"]
     result = mrpp.solve(problem, "lifelong-pibt", {"scheduler": "hungarian"}, seed=3)
     assert result.solved and result.planner == "lifelong-pibt" and result.seed == 3
     finished = result.metrics["tasks_finished"]
