@@ -35,12 +35,12 @@ const PIBT_PARAMS: [Param; 8] = [
     Param {
         name: "scheduler",
         default: "greedy",
-        doc: "greedy = the start kit's (nearest free task per free robot, never re-assigned); hungarian = minimum-cost assignment of every robot not yet at its first errand, each step",
+        doc: "greedy = the start kit's (nearest free task per free robot, never re-assigned); hungarian = minimum-cost assignment of every robot not yet at its first errand, each step; matching = greedy matching of the same pairs by increasing cost (scales to thousands of robots)",
     },
     Param {
         name: "hungarian_max",
         default: "400",
-        doc: "above this many robots or tasks in the batch, hungarian falls back to greedy for the step",
+        doc: "above this many robots or tasks in the batch, hungarian falls back to matching for the step",
     },
     Param {
         name: "guidance",
@@ -82,9 +82,14 @@ pub const PIBT_ENTRY: PlannerEntry<LifelongProblem> = PlannerEntry {
     build: |p| Ok(Box::new(build(PIBT_ENTRY.name, p)?)),
 };
 
-/// lifelong-lns's parameters: lifelong-pibt's, with a window of 10 steps.
+/// lifelong-lns's parameters: lifelong-pibt's, with a window of 10 steps and the `hungarian`
+/// scheduler (`matching` above `hungarian_max`).
 const LNS_PARAMS: [Param; 8] = [
-    PIBT_PARAMS[0],
+    Param {
+        name: "scheduler",
+        default: "hungarian",
+        doc: PIBT_PARAMS[0].doc,
+    },
     PIBT_PARAMS[1],
     PIBT_PARAMS[2],
     PIBT_PARAMS[3],
@@ -108,9 +113,10 @@ pub const LNS_ENTRY: PlannerEntry<LifelongProblem> = PlannerEntry {
 
 /// The planner of either entry from its checked parameters.
 fn build(name: &'static str, p: &mrpp_core::Params) -> mrpp_core::Result<LifelongPibt> {
-    let scheduler = match p.choice("scheduler", &["greedy", "hungarian"])? {
+    let scheduler = match p.choice("scheduler", &["greedy", "hungarian", "matching"])? {
         0 => SchedulerKind::Greedy,
-        _ => SchedulerKind::Hungarian,
+        1 => SchedulerKind::Hungarian,
+        _ => SchedulerKind::Matching,
     };
     Ok(LifelongPibt {
         name,

@@ -1,4 +1,4 @@
-//! Task scheduling: which robot does which revealed task (`-p scheduler=greedy|hungarian`).
+//! Task scheduling: which robot does which revealed task (`-p scheduler=greedy|hungarian|matching`).
 //!
 //! - `greedy`, the start kit's default scheduler (`default_planner/scheduler.cpp`, v2.1.2):
 //!   every robot without a task, in index order (the kit's order is a hash set's), takes the free
@@ -10,8 +10,16 @@
 //!   errand (free robots and robots still on their way, which the kit's rules let one re-assign)
 //!   and every task not yet started. Re-planned at every step, so a robot freed near a task
 //!   takes it from one still far away. It costs O(n^3) in the robots and tasks involved; above
-//!   `hungarian_max` of either it falls back to `greedy` for that step (the default 400 keeps a
+//!   `hungarian_max` of either it falls back to `matching` for that step (the default 400 keeps a
 //!   step at a few milliseconds here).
+//! - `matching`: greedy matching over the same robots and tasks: all pairs in increasing cost
+//!   (ties to the lower task, then robot, position), each taken when neither end is taken yet
+//!   (no optimality guarantee, unlike `hungarian`, but O(pairs) memory, 2 bytes a pair, and
+//!   time, so it scales to thousands of robots). Above
+//!   [`REASSIGN_MAX_PAIRS`] pairs it matches only free robots with free tasks (robots on their way
+//!   keep their task); when the step's scheduling time runs out while pairs are costed, the tasks
+//!   costed so far (the first revealed) are matched. Compared with `greedy` on the kit's
+//!   `sortation_large_2000` it raised the tasks finished in 300 steps by 11% (docs/lifelong.md).
 
 use pathfinding::kuhn_munkres::kuhn_munkres_min;
 use pathfinding::matrix::Matrix;
@@ -28,6 +36,7 @@ pub enum SchedulerKind {
     #[default]
     Greedy,
     Hungarian,
+    Matching,
 }
 
 /// The cost of an unreachable task: larger than any real one, small enough to add up.
@@ -45,8 +54,123 @@ pub fn schedule(
     match kind {
         SchedulerKind::Greedy => greedy(sim, dist, deadline),
         SchedulerKind::Hungarian => hungarian(sim, dist, hungarian_max, deadline)
+            .or_else(|| matching(sim, dist, deadline))
             .unwrap_or_else(|| greedy(sim, dist, deadline)),
+        SchedulerKind::Matching => {
+            matching(sim, dist, deadline).unwrap_or_else(|| greedy(sim, dist, deadline))
+        }
     }
+}
+
+/// Above this many (robot, task) pairs, [`matching`] leaves robots on their way to a task
+/// alone and matches only robots without one (module doc).
+pub const REASSIGN_MAX_PAIRS: usize = 1 << 23;
+
+/// Greedy matching (module doc); `None` when `deadline` passes first (checked every 64 tasks).
+fn matching(
+    sim: &Simulation<'_>,
+    dist: &mut Distances,
+    deadline: Deadline,
+) -> Option<Vec<Option<usize>>> {
+    let graph = sim.problem().map().graph();
+    let mut proposal = sim.assignment.clone();
+    let movable = |k: usize| sim.tasks[k].done == 0;
+    let candidates = |reassign: bool| {
+        let agents: Vec<usize> = (0..proposal.len())
+            .filter(|&i| proposal[i].is_none_or(|k| reassign && movable(k)))
+            .collect();
+        let tasks: Vec<usize> = sim
+            .open
+            .iter()
+            .copied()
+            .filter(|&k| {
+                if reassign {
+                    movable(k)
+                } else {
+                    sim.tasks[k].agent.is_none()
+                }
+            })
+            .collect();
+        (agents, tasks)
+    };
+    let (mut agents, mut tasks) = candidates(true);
+    if agents.len() * tasks.len() > REASSIGN_MAX_PAIRS {
+        (agents, tasks) = candidates(false);
+    }
+    if agents.is_empty() || tasks.is_empty() {
+        return Some(proposal);
+    }
+    // Every pair's cost, task-major, capped at u16::MAX - 1 (u16::MAX: unreachable). When
+    // the deadline passes, the tasks costed so far (the first revealed) are matched.
+    let na = agents.len();
+    let cells: Vec<_> = agents.iter().map(|&i| sim.states[i].vertex).collect();
+    let mut costs: Vec<u16> = Vec::with_capacity(na * tasks.len());
+    let mut count = vec![0u32; u16::MAX as usize + 1];
+    let mut row = Vec::with_capacity(na);
+    for (pos, &k) in tasks.iter().enumerate() {
+        if pos % 16 == 15 && deadline.expired() {
+            tasks.truncate(pos);
+            break;
+        }
+        let chain = errand_chain(sim, dist, k);
+        let t = &sim.tasks[k];
+        dist.to(graph, t.errands[t.done], &cells, &mut row);
+        for &d in &row {
+            let c = if d == UNREACHABLE || chain == UNREACHABLE {
+                u16::MAX
+            } else {
+                plus(d, chain).min(u32::from(u16::MAX) - 1) as u16
+            };
+            count[c as usize] += 1;
+            costs.push(c);
+        }
+    }
+    let nt = tasks.len();
+    for &i in &agents {
+        proposal[i] = None;
+    }
+    // Greedy matching: pairs in increasing cost (ties by task, then robot position), taken
+    // when both ends are free. Pairs are sorted a cost window at a time, each window twice as
+    // large as the last, so that only the cheap pairs are ever sorted.
+    let mut agent_done = vec![false; na];
+    let mut task_done = vec![false; nt];
+    let mut matched = 0;
+    let mut window_pairs = 8 * na.max(nt);
+    let mut lo = 0usize;
+    let mut pairs: Vec<u64> = Vec::new();
+    while matched < na.min(nt) && lo < u16::MAX as usize {
+        let mut hi = lo;
+        let mut inside = 0usize;
+        while hi < u16::MAX as usize && inside < window_pairs {
+            inside += count[hi] as usize;
+            hi += 1;
+        }
+        pairs.clear();
+        for (t, chunk) in costs.chunks_exact(na).enumerate() {
+            if task_done[t] {
+                continue;
+            }
+            for (a, &c) in chunk.iter().enumerate() {
+                if (lo..hi).contains(&(c as usize)) && !agent_done[a] {
+                    pairs.push((u64::from(c) << 40) | ((t as u64) << 20) | a as u64);
+                }
+            }
+        }
+        pairs.sort_unstable();
+        for &p in &pairs {
+            let (t, a) = (((p >> 20) & 0xf_ffff) as usize, (p & 0xf_ffff) as usize);
+            if agent_done[a] || task_done[t] {
+                continue;
+            }
+            agent_done[a] = true;
+            task_done[t] = true;
+            proposal[agents[a]] = Some(tasks[t]);
+            matched += 1;
+        }
+        lo = hi;
+        window_pairs *= 2;
+    }
+    Some(proposal)
 }
 
 /// `d(e1, e2) + d(e2, e3) + ...` of a task's errands from its next one on.
@@ -159,4 +283,137 @@ fn hungarian(
         proposal[agents[a]] = Some(tasks[t]);
     }
     Some(proposal)
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::PathBuf;
+    use std::time::Duration;
+
+    use mrpp_core::mapf::graph::VertexId;
+    use mrpp_core::mapf::search::distance::bfs_distances;
+    use mrpp_mapf::GridMap;
+    use mrpp_mapf::lorr_files::LorrFiles;
+    use proptest::prelude::*;
+
+    use super::*;
+    use crate::model::ActionModel;
+    use crate::problem::LifelongProblem;
+
+    /// A 6 x 6 map with the blocked cells of `walls` (0..36), robots on `starts` and tasks of
+    /// two errands each (vertex indices modulo the free cells), 1.5 tasks per robot revealed.
+    fn problem(walls: &[usize], starts: &[usize], tasks: &[(usize, usize)]) -> LifelongProblem {
+        let rows: Vec<Vec<bool>> = (0..6)
+            .map(|r| (0..6).map(|c| !walls.contains(&(r * 6 + c))).collect())
+            .collect();
+        let map = GridMap::from_free_rows(&rows);
+        let n = map.graph().num_vertices();
+        let mut seen = Vec::new();
+        let starts: Vec<VertexId> = starts
+            .iter()
+            .map(|&s| (s % n) as VertexId)
+            .filter(|s| {
+                let new = !seen.contains(s);
+                seen.push(*s);
+                new
+            })
+            .collect();
+        let files = LorrFiles {
+            path: PathBuf::from("p.json"),
+            map_path: PathBuf::from("m.map"),
+            agent_path: PathBuf::from("a.agents"),
+            task_path: PathBuf::from("t.tasks"),
+            map,
+            start_lines: (0..starts.len()).collect(),
+            starts,
+            task_lines: (0..tasks.len()).collect(),
+            tasks: tasks
+                .iter()
+                .map(|&(a, b)| vec![(a % n) as VertexId, (b % n) as VertexId])
+                .collect(),
+            num_tasks_reveal: 1.5,
+            version: "2024 LoRR".into(),
+            json: serde_json::Value::Null,
+        };
+        LifelongProblem::new(files, ActionModel::Mapf, 10, Duration::from_secs(1))
+    }
+
+    /// The rule written out plainly: every (robot, task) pair with its cost, sorted by (cost,
+    /// task position, robot position), taken when both ends are free.
+    fn reference(sim: &Simulation<'_>) -> Vec<Option<usize>> {
+        let graph = sim.problem().map().graph();
+        let tasks: Vec<usize> = sim.open.iter().copied().collect();
+        let mut pairs = Vec::new();
+        for (tp, &k) in tasks.iter().enumerate() {
+            let e = &sim.tasks[k].errands;
+            let to_first = bfs_distances(graph, e[0]);
+            let chain = bfs_distances(graph, e[1])[e[0] as usize];
+            for (a, s) in sim.states.iter().enumerate() {
+                let d = to_first[s.vertex as usize];
+                if d != UNREACHABLE && chain != UNREACHABLE {
+                    pairs.push((d + chain, tp, a));
+                }
+            }
+        }
+        pairs.sort();
+        let mut out = vec![None; sim.states.len()];
+        let mut taken = vec![false; tasks.len()];
+        for (_, tp, a) in pairs {
+            if out[a].is_none() && !taken[tp] {
+                out[a] = Some(tasks[tp]);
+                taken[tp] = true;
+            }
+        }
+        out
+    }
+
+    proptest! {
+        /// At step 0 (every robot free, every revealed task free), `matching` is exactly the
+        /// greedy matching of its module doc, on maps with walls (some pairs unreachable).
+        #[test]
+        fn matching_takes_the_cheapest_free_pairs_first(
+            walls in proptest::collection::vec(0usize..36, 0..10),
+            starts in proptest::collection::vec(0usize..64, 1..8),
+            tasks in proptest::collection::vec((0usize..64, 0usize..64), 1..16),
+        ) {
+            let problem = problem(&walls, &starts, &tasks);
+            let sim = Simulation::new(&problem);
+            let mut dist = Distances::new(problem.map().graph().num_vertices(), 1 << 20);
+            let far = Deadline::after(Duration::from_secs(60));
+            let got = schedule(SchedulerKind::Matching, 400, &sim, &mut dist, far);
+            prop_assert_eq!(got, reference(&sim));
+        }
+    }
+
+    /// Greedy matching is not optimal: on a corridor with robot 0 at cell 0, robot 1 at cell 6
+    /// and tasks starting at cells 5 and 10, it gives robot 1 the task at 5 (cost 1) and robot
+    /// 0 the one at 10 (cost 10), total 11, where `hungarian` finds 5 + 4 = 9 (and `greedy` in
+    /// robot order happens to find it too).
+    #[test]
+    fn matching_and_hungarian_differ_where_greedy_matching_is_short_sighted() {
+        let rows = vec![vec![true; 11]];
+        let map = GridMap::from_free_rows(&rows);
+        let files = LorrFiles {
+            path: PathBuf::from("p.json"),
+            map_path: PathBuf::from("m.map"),
+            agent_path: PathBuf::from("a.agents"),
+            task_path: PathBuf::from("t.tasks"),
+            map,
+            starts: vec![0, 6],
+            start_lines: vec![1, 2],
+            tasks: vec![vec![5, 5], vec![10, 10]],
+            task_lines: vec![1, 2],
+            num_tasks_reveal: 1.0,
+            version: "2024 LoRR".into(),
+            json: serde_json::Value::Null,
+        };
+        let problem = LifelongProblem::new(files, ActionModel::Mapf, 10, Duration::from_secs(1));
+        let sim = Simulation::new(&problem);
+        let mut dist = Distances::new(11, 1 << 20);
+        let far = Deadline::after(Duration::from_secs(60));
+        let mut run = |kind| schedule(kind, 400, &sim, &mut dist, far);
+        assert_eq!(run(SchedulerKind::Matching), vec![Some(1), Some(0)]);
+        assert_eq!(run(SchedulerKind::Hungarian), vec![Some(0), Some(1)]);
+        assert_eq!(run(SchedulerKind::Greedy), vec![Some(0), Some(1)]);
+    }
 }

@@ -35,6 +35,8 @@ fn every_planner_finishes_tasks_and_its_output_reads_back() {
                     ("hungarian", "none", "turns", "0"),
                     ("hungarian", "traffic-flow", "hops", "8"),
                     ("greedy", "none", "turns", "5"),
+                    ("matching", "traffic-flow", "hops", "0"),
+                    ("matching", "none", "turns", "6"),
                 ] {
                     let what = format!(
                         "{example}, {}, {}, {scheduler}, {guidance}, {distances}, window {window}",

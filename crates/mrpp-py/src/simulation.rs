@@ -151,15 +151,16 @@ impl Simulation {
     }
 
     /// A proposed assignment (each robot's task id or None) by mrpp's scheduler `kind`
-    /// (`greedy`: the start kit's; `hungarian`), within `time_limit` seconds.
+    /// (`greedy`: the start kit's; `hungarian`; `matching`), within `time_limit` seconds.
     #[pyo3(signature = (kind="greedy", time_limit=0.5))]
     fn schedule(&mut self, kind: &str, time_limit: f64) -> PyResult<Vec<Option<usize>>> {
         let kind = match kind {
             "greedy" => SchedulerKind::Greedy,
             "hungarian" => SchedulerKind::Hungarian,
+            "matching" => SchedulerKind::Matching,
             _ => {
                 return Err(MrppError::new_err(format!(
-                    "unknown scheduler {kind:?}: greedy or hungarian"
+                    "unknown scheduler {kind:?}: greedy, hungarian or matching"
                 )));
             }
         };

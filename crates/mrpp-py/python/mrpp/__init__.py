@@ -269,7 +269,9 @@ class Simulation:
 
     def schedule(self, kind: str = "greedy", time_limit: float = 0.5) -> List[Optional[int]]:
         """mrpp's proposal of each robot's task: ``greedy`` (the League's start kit's: each free
-        robot takes the nearest open task, never re-assigned) or ``hungarian``."""
+        robot takes the nearest open task, never re-assigned), ``hungarian`` (a minimum-cost
+        assignment of every robot not yet at its first errand) or ``matching`` (greedy matching
+        of the same pairs by increasing cost, for thousands of robots)."""
         return self._native.schedule(kind, float(time_limit))
 
     def to_json(self) -> str:
