@@ -599,12 +599,41 @@ fn report<P: Problem>(
     if crate::output::verbosity() >= 2 {
         detail!("{planner} notes: {}", Value::Object(notes.clone()));
     } else {
-        let short = pairs(notes);
+        let short = pairs(&readable_notes(notes));
         if !short.is_empty() {
             say!("{planner}: {short}");
         }
     }
     Ok(())
+}
+
+/// The planner's notes with labels a person reads in a summary line (files keep the keys):
+/// LaCAM's `first_cost`/`final_cost`/`search_cost` named after the objective they measure
+/// (`first_sum_of_loss 2431`; the `objective` note is then implied), H*'s `finished_by` as
+/// `solved_by` with what each value means.
+fn readable_notes(notes: &Map<String, Value>) -> Map<String, Value> {
+    let objective = notes.get("objective").and_then(Value::as_str);
+    let mut out = Map::new();
+    for (k, v) in notes {
+        let (key, value) = match (k.as_str(), objective) {
+            ("objective", Some(_)) if notes.contains_key("first_cost") => continue,
+            ("first_cost" | "final_cost" | "search_cost", Some(o)) => {
+                (format!("{}_{o}", k.trim_end_matches("_cost")), v.clone())
+            }
+            ("finished_by", _) => (
+                "solved_by".to_string(),
+                match v.as_str() {
+                    Some("paper") => "the paper's steps".into(),
+                    Some("repair") => "the paper's steps + mrpp's repair".into(),
+                    Some("lacam") => "the paper's steps + LaCAM completion".into(),
+                    _ => v.clone(),
+                },
+            ),
+            _ => (k.clone(), v.clone()),
+        };
+        out.insert(key, value);
+    }
+    out
 }
 
 /// Writes the plan file and a made program, each atomically.

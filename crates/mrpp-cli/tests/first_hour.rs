@@ -354,6 +354,41 @@ fn summaries_state_lower_bounds_and_round_numbers() {
         1,
         "{verbose}"
     );
+    // Planner notes say what they measure: LaCAM's costs are sums of loss (was `first_cost
+    // 2431 | final_cost 2431`), H*'s way to its plan is said in words (was `finished_by repair`).
+    let lacam = run(&[
+        "solve",
+        "--lorr",
+        lorr.to_str().unwrap(),
+        "-P",
+        "lacam",
+        "-o",
+        o,
+    ]);
+    assert!(
+        lacam.contains("first_sum_of_loss ") && !lacam.contains("first_cost"),
+        "{lacam}"
+    );
+    let hstar = run(&[
+        "solve",
+        "--map",
+        root.join("hstar-paper/scenario2/scenery_4rooms_B.txt")
+            .to_str()
+            .unwrap(),
+        "--scen",
+        root.join("hstar-paper/scenario2/6robots-per-room.txt")
+            .to_str()
+            .unwrap(),
+        "-P",
+        "hstar",
+        "-o",
+        o,
+    ]);
+    assert!(
+        hstar.contains("hstar: solved_by the paper's steps + mrpp's repair")
+            && !hstar.contains("finished_by"),
+        "{hstar}"
+    );
     let _ = std::fs::remove_file(&out);
 }
 
