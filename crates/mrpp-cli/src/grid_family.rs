@@ -255,8 +255,26 @@ fn check_against(
     Ok(())
 }
 
-/// `mrpp info`: map size, corridor nodes, and lower bounds on any valid plan.
+/// `mrpp info`: map size, corridor nodes, and lower bounds on any valid plan; for `--map`
+/// alone, the map's size, free cells and its largest connected area.
 fn info(inputs: &Inputs) -> Result<u8, Fail> {
+    if inputs.lorr.is_none() && inputs.scen.is_none() {
+        let (map, map_path) = map_of(inputs)?;
+        let g = map.graph();
+        let largest = mrpp_mapf::map::largest_component(&map).len();
+        out!(
+            "map {} {}x{} | free cells {} | largest connected area {} cells ({}%) | corridor-compressed nodes {}",
+            file_name(&map_path),
+            map.width(),
+            map.height(),
+            g.num_vertices(),
+            largest,
+            crate::output::number(100.0 * largest as f64 / g.num_vertices() as f64),
+            mrpp_grid::corridors::Corridors::build(g).num_nodes()
+        );
+        out!("no agents given: add --scen (or use --lorr) for lower bounds on a plan");
+        return Ok(0);
+    }
     let (map, map_path, problem, scen_path, _) = problem_of(inputs)?;
     let (g, inst) = (problem.graph(), problem.instance());
     let corridors = mrpp_grid::corridors::Corridors::build(g);

@@ -13,7 +13,7 @@ use mrpp_trees::plan_json::{read_tree_plan, tree_envelope};
 use mrpp_trees::{ProblemSpec, RobotCount, TreeInstance, generate_problem, tree_problem};
 
 use crate::family::{Def, Format, Inputs, Loaded, ReadPlan, SolveRequest};
-use crate::output::{Fail, file_name, guard, say, write_atomic};
+use crate::output::{Fail, file_name, guard, out, say, write_atomic};
 
 /// Largest depth budget `trees gen` accepts (the paper uses 4–10).
 const MAX_DEPTH: u32 = 30;
@@ -31,7 +31,7 @@ pub(crate) const fn def() -> Def<MapfProblem> {
         claims: |i| i.instance.is_some(),
         load,
         read_plan,
-        info: None,
+        info: Some(info),
         render: Some(render),
         scene: Some(scene),
         lacam: false,
@@ -62,6 +62,37 @@ fn load(inputs: &Inputs) -> Result<Loaded<MapfProblem>, Fail> {
             Ok(tree_envelope(&instance_file, problem, info, outcome, notes).to_json())
         }),
     })
+}
+
+/// `mrpp info`: the tree's size and shape, its robots, and lower bounds on any valid plan (each
+/// robot alone on the tree).
+fn info(inputs: &Inputs) -> Result<u8, Fail> {
+    let path = instance_path(inputs)?;
+    let tree = TreeInstance::load(path)?;
+    let g = &tree.graph;
+    let max_degree = (0..g.num_vertices() as mrpp_core::VertexId)
+        .map(|v| g.neighbors(v).len())
+        .max()
+        .unwrap_or(0);
+    out!(
+        "instance {} | nodes {} | leaves {} | largest degree {} | robots {} (leaves - 1 = {})",
+        file_name(path),
+        tree.num_nodes(),
+        tree.num_leaves(),
+        max_degree,
+        tree.num_robots(),
+        tree.num_leaves().saturating_sub(1)
+    );
+    let inst = &tree.instance;
+    let (sum, max) = mrpp_core::mapf::search::distance::lower_bounds(g, &inst.starts, &inst.goals)
+        .map_err(|i| {
+            Fail(format!(
+                "{}: robot {i} cannot reach its goal",
+                path.display()
+            ))
+        })?;
+    out!("lower bounds: sum_of_costs >= {sum} | makespan >= {max}");
+    Ok(0)
 }
 
 fn read_plan(inputs: &Inputs, plan_path: &Path) -> Result<ReadPlan<MapfProblem>, Fail> {

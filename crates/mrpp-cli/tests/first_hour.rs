@@ -657,3 +657,64 @@ fn a_file_of_the_wrong_kind_is_named_as_such() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Item 12 (part): `mrpp info` answers for a map alone (was "grid problems need --scen") and for
+/// a tree instance (was "`mrpp info` is not available for trees problems yet").
+#[test]
+fn info_describes_a_map_alone_and_a_tree_instance() {
+    let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data");
+    let d = |rel: &str| data.join(rel).to_string_lossy().into_owned();
+    let map = mrpp_in(
+        &std::env::temp_dir(),
+        &["info", "--map", &d("movingai/random-32-32-20.map")],
+    );
+    assert_eq!(map.code, Some(0), "{}", map.err);
+    assert!(
+        map.out
+            .contains("32x32 | free cells 819 | largest connected area 819 cells (100%)"),
+        "{}",
+        map.out
+    );
+    let tree = mrpp_in(
+        &std::env::temp_dir(),
+        &["info", "--instance", &d("trees/example.json")],
+    );
+    assert_eq!(tree.code, Some(0), "{}", tree.err);
+    assert!(
+        tree.out.contains("nodes 37 | leaves 19") && tree.out.contains("robots 18"),
+        "{}",
+        tree.out
+    );
+    // The lower bounds are those of each robot alone: the plan's own costs meet them.
+    let plan = std::env::temp_dir().join(format!("mrpp-info-tree-{}.json", std::process::id()));
+    let solved = mrpp_in(
+        &std::env::temp_dir(),
+        &[
+            "solve",
+            "--instance",
+            &d("trees/example.json"),
+            "-P",
+            "psw",
+            "-o",
+            plan.to_str().unwrap(),
+        ],
+    );
+    let bound = |text: &str, key: &str| -> u64 {
+        let at = text.find(key).unwrap_or_else(|| panic!("{key} in {text}")) + key.len();
+        text[at..]
+            .trim_start_matches([' ', '>', '='])
+            .split(|c: char| !c.is_ascii_digit())
+            .next()
+            .unwrap()
+            .parse()
+            .unwrap()
+    };
+    assert!(
+        bound(&solved.out, "sum_of_costs") >= bound(&tree.out, "sum_of_costs")
+            && bound(&solved.out, "makespan") >= bound(&tree.out, "makespan"),
+        "{}\n{}",
+        solved.out,
+        tree.out
+    );
+    let _ = std::fs::remove_file(&plan);
+}
