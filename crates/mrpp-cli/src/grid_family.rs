@@ -11,7 +11,7 @@ use mrpp_core::mapf::search::distance::lower_bounds;
 use mrpp_core::{Instance, MapfProblem, Problem, VertexId};
 use mrpp_grid::GridMap;
 use mrpp_grid::io::lacam::{parse_lacam_with_claims, write_lacam};
-use mrpp_grid::io::plan_json::{grid_envelope, read_grid_plan};
+use mrpp_grid::io::plan_json::{grid_envelope, read_grid_plan, read_grid_plan_to_draw};
 use mrpp_grid::io::render::render_svg;
 
 use crate::family::{Def, Format, Inputs, Loaded, Outcome, ReadPlan};
@@ -143,10 +143,24 @@ fn write_plan(
 /// Reads a plan file in either format (JSON starts with `{`), checked against `--scen` (or the
 /// `--lorr` problem) when given.
 fn read_plan(inputs: &Inputs, plan_path: &Path) -> Result<ReadPlan<MapfProblem>, Fail> {
+    read_plan_with(inputs, plan_path, false)
+}
+
+/// [`read_plan`]; with `to_draw`, a JSON file that says `solved: false` is read as its agents
+/// standing on their starts (pictures of an unsolved instance).
+fn read_plan_with(
+    inputs: &Inputs,
+    plan_path: &Path,
+    to_draw: bool,
+) -> Result<ReadPlan<MapfProblem>, Fail> {
     let (map, _) = map_of(inputs)?;
     let text = mrpp_core::error::read_file(plan_path)?;
     let (problem, plan, claims, about) = if text.trim_start().starts_with('{') {
-        let (problem, plan, env) = read_grid_plan(&map, &text, plan_path)?;
+        let (problem, plan, env) = if to_draw {
+            read_grid_plan_to_draw(&map, &text, plan_path)?
+        } else {
+            read_grid_plan(&map, &text, plan_path)?
+        };
         let about = format!("planner {} | seed {}", or_unknown(&env.planner), env.seed);
         (problem, plan, env.metrics, about)
     } else {
@@ -301,7 +315,7 @@ fn info(inputs: &Inputs) -> Result<u8, Fail> {
 
 /// `mrpp render`: the map, starts, goals and paths as SVG.
 fn render(inputs: &Inputs, plan: &Path) -> Result<String, Fail> {
-    let read = read_plan(inputs, plan)?;
+    let read = read_plan_with(inputs, plan, true)?;
     let (map, _) = map_of(inputs)?;
     Ok(render_svg(&map, read.problem.instance(), Some(&read.plan)))
 }
@@ -322,7 +336,7 @@ pub(crate) fn scene_rows(map: &GridMap) -> Vec<String> {
 }
 
 fn scene(inputs: &Inputs, plan: &Path) -> Result<Value, Fail> {
-    let read = read_plan(inputs, plan)?;
+    let read = read_plan_with(inputs, plan, true)?;
     let (map, map_path) = map_of(inputs)?;
     let inst = read.problem.instance();
     let centre = |v: VertexId| {

@@ -93,9 +93,32 @@ pub(crate) fn render(inputs: &Inputs, plan: &Path, out: &Path, gif: bool) -> Res
     Ok(0)
 }
 
+/// The `status` of a JSON plan file that says `solved: false` (`None` for anything else).
+fn unsolved_status(plan: &Path) -> Option<String> {
+    let text = std::fs::read_to_string(plan).ok()?;
+    if !text.trim_start().starts_with('{') {
+        return None;
+    }
+    let v: serde_json::Value = serde_json::from_str(&text).ok()?;
+    (v.get("solved")? == &serde_json::Value::Bool(false)).then(|| {
+        v.get("status")
+            .and_then(serde_json::Value::as_str)
+            .unwrap_or("unknown")
+            .to_string()
+    })
+}
+
 /// Says on stderr when the plan to be drawn or played breaks a rule (or its claims do not hold):
 /// the picture is still made, since a broken plan is worth seeing, but not without a word.
 pub(crate) fn warn_if_invalid(family: &dyn crate::family::Family, inputs: &Inputs, plan: &Path) {
+    if let Some(status) = unsolved_status(plan) {
+        // Grid pictures draw the starts and goals of such a file; other families refuse it.
+        eprintln!(
+            "mrpp: note: {}: the file holds no plan (solved=false, status {status}): only the starts and goals can be drawn",
+            plan.display()
+        );
+        return;
+    }
     if let Err(Fail(why)) = family.check(inputs, plan) {
         eprintln!("mrpp: warning: this plan is not valid (drawn as it is): {why}");
     }

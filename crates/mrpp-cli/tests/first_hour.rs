@@ -718,3 +718,65 @@ fn info_describes_a_map_alone_and_a_tree_instance() {
     );
     let _ = std::fs::remove_file(&plan);
 }
+
+/// Item 11 (part): a grid plan file that says `solved: false` can be looked at: `render` and
+/// `view` draw its starts and goals and say that it holds no plan (was: exit 1 "it holds no plan
+/// (nothing to check or draw)"); `validate` still refuses it.
+#[test]
+fn an_unsolved_grid_plan_file_shows_its_starts_and_goals() {
+    let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data");
+    let d = |rel: &str| data.join(rel).to_string_lossy().into_owned();
+    let dir = std::env::temp_dir().join(format!("mrpp-unsolved-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let (map, scen) = (
+        d("movingai/random-32-32-20.map"),
+        d("movingai/random-32-32-20-random-1.scen"),
+    );
+    let inputs = ["--map", map.as_str(), "--scen", scen.as_str(), "-N", "10"];
+    let solved = dir.join("solved.json");
+    let ran = mrpp_in(
+        &dir,
+        &[
+            &["solve", "-P", "pibt", "-o", solved.to_str().unwrap()][..],
+            &inputs[..],
+        ]
+        .concat(),
+    );
+    assert_eq!(ran.code, Some(0), "{}", ran.err);
+    let text = std::fs::read_to_string(&solved).unwrap();
+    assert!(text.contains("\"solved\": true"), "{text}");
+    let unsolved = dir.join("unsolved.json");
+    std::fs::write(
+        &unsolved,
+        text.replace("\"solved\": true", "\"solved\": false")
+            .replace("\"status\": \"solved\"", "\"status\": \"time_limit\""),
+    )
+    .unwrap();
+    let u = unsolved.to_str().unwrap();
+    let svg = dir.join("unsolved.svg");
+    let html = dir.join("unsolved.html");
+    for (verb, out) in [("render", &svg), ("view", &html)] {
+        let ran = mrpp_in(
+            &dir,
+            &[
+                &[verb, "--plan", u, "-o", out.to_str().unwrap()][..],
+                &inputs[..],
+            ]
+            .concat(),
+        );
+        assert_eq!(ran.code, Some(0), "{verb}: {}", ran.err);
+        assert!(
+            ran.err.contains("holds no plan (solved=false")
+                && ran.err.contains("only the starts and goals"),
+            "{verb}: {}",
+            ran.err
+        );
+        assert!(std::fs::metadata(out).unwrap().len() > 0);
+    }
+    let ran = mrpp_in(
+        &dir,
+        &[&["validate", "--plan", u][..], &inputs[..]].concat(),
+    );
+    assert_eq!(ran.code, Some(1), "{}", ran.err);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -105,6 +105,30 @@ pub fn mapf_plan<E: Serialize + DeserializeOwned>(
     path: &Path,
 ) -> Result<(Instance, Plan)> {
     env.require_solved(path)?;
+    plan_or_starts(env, vertex, label, path)
+}
+
+/// As [`mapf_plan`], but a file that says `solved: false` is read too: each agent then stands
+/// on its start (a one-state path), so that its starts and goals can be drawn. For pictures
+/// only: a validator must use [`mapf_plan`].
+///
+/// # Errors
+/// As [`mapf_plan`], except for `solved: false`.
+pub fn mapf_plan_to_draw<E: Serialize + DeserializeOwned>(
+    env: &Envelope<E>,
+    vertex: impl Fn(&E) -> std::result::Result<VertexId, String>,
+    label: impl Fn(&E) -> String,
+    path: &Path,
+) -> Result<(Instance, Plan)> {
+    plan_or_starts(env, vertex, label, path)
+}
+
+fn plan_or_starts<E: Serialize + DeserializeOwned>(
+    env: &Envelope<E>,
+    vertex: impl Fn(&E) -> std::result::Result<VertexId, String>,
+    label: impl Fn(&E) -> String,
+    path: &Path,
+) -> Result<(Instance, Plan)> {
     let at = |e: &E, what: &dyn Fn() -> String| {
         vertex(e).map_err(|why| Error::invalid(path, format!("{}: {why}", what())))
     };
@@ -122,12 +146,15 @@ pub fn mapf_plan<E: Serialize + DeserializeOwned>(
             let msg = format!("agents {j} and {i} share the goal {}", label(&a.goal));
             return Err(Error::invalid(path, msg));
         }
-        let p = a
-            .path
-            .iter()
-            .enumerate()
-            .map(|(t, e)| at(e, &|| format!("agent {i} path at t={t}")))
-            .collect::<Result<Vec<_>>>()?;
+        let p = if env.solved {
+            a.path
+                .iter()
+                .enumerate()
+                .map(|(t, e)| at(e, &|| format!("agent {i} path at t={t}")))
+                .collect::<Result<Vec<_>>>()?
+        } else {
+            vec![s]
+        };
         starts.push(s);
         goals.push(g);
         paths.push(p);

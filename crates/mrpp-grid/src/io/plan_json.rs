@@ -10,7 +10,9 @@ use std::path::Path;
 
 use mrpp_core::envelope::{Envelope, World};
 use mrpp_core::error::Result;
-use mrpp_core::mapf::plan_file::{RunInfo, mapf_envelope, mapf_plan, mapf_rules};
+use mrpp_core::mapf::plan_file::{
+    RunInfo, mapf_envelope, mapf_plan, mapf_plan_to_draw, mapf_rules,
+};
 use mrpp_core::{MapfProblem, Plan, Rules, Solved, Unsolved};
 
 use crate::map::GridMap;
@@ -49,21 +51,44 @@ pub fn read_grid_plan(
     text: &str,
     path: &Path,
 ) -> Result<(MapfProblem, Plan, Envelope<Cell>)> {
+    read(map, text, path, true)
+}
+
+/// As [`read_grid_plan`], but a file that says `solved: false` is read as its agents standing
+/// on their starts (for pictures of an unsolved instance; `mapf_plan_to_draw`).
+///
+/// # Errors
+/// As [`read_grid_plan`], except for `solved: false`.
+pub fn read_grid_plan_to_draw(
+    map: &GridMap,
+    text: &str,
+    path: &Path,
+) -> Result<(MapfProblem, Plan, Envelope<Cell>)> {
+    read(map, text, path, false)
+}
+
+fn read(
+    map: &GridMap,
+    text: &str,
+    path: &Path,
+    solved_only: bool,
+) -> Result<(MapfProblem, Plan, Envelope<Cell>)> {
     mrpp_core::envelope::check_family(text, crate::FAMILY, path)?;
     let env: Envelope<Cell> = Envelope::parse(text, path)?;
     if env.agents.is_empty() {
         return Err(mrpp_core::Error::invalid(path, "the plan has no agents"));
     }
     let rules = mapf_rules(&env, Rules::default(), path)?;
-    let (inst, plan) = mapf_plan(
-        &env,
-        |c| {
-            map.vertex_at(c[0], c[1])
-                .ok_or_else(|| map.cell_problem(c[0], c[1]).unwrap_or_default())
-        },
-        |c| format!("({},{})", c[0], c[1]),
-        path,
-    )?;
+    let vertex = |c: &Cell| {
+        map.vertex_at(c[0], c[1])
+            .ok_or_else(|| map.cell_problem(c[0], c[1]).unwrap_or_default())
+    };
+    let label = |c: &Cell| format!("({},{})", c[0], c[1]);
+    let (inst, plan) = if solved_only {
+        mapf_plan(&env, vertex, label, path)?
+    } else {
+        mapf_plan_to_draw(&env, vertex, label, path)?
+    };
     let problem = MapfProblem::new(map.graph_arc().clone(), inst, rules)
         .expect("cells were mapped to the map's vertices");
     Ok((problem, plan, env))
