@@ -57,7 +57,7 @@ pub const MAX_EXPANSIONS: usize = 20_000;
 const FAR: u32 = 1 << 20;
 
 /// The options of windowed LNS (module doc).
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct LnsOptions {
     /// Steps planned ahead, `W` (1..=64).
     pub window: usize,
@@ -65,6 +65,10 @@ pub struct LnsOptions {
     pub iterations: usize,
     /// Robots re-planned together at most.
     pub group: usize,
+    /// Above this share of the free cells covered by robots, plan one PIBT step per call
+    /// instead (no window): at 26% on a 10,000-robot warehouse the window's rollouts left the
+    /// guide paths too little time (docs/lifelong.md).
+    pub max_density: f64,
 }
 
 /// Windowed LNS's state from step to step: the joint plan, the reservation table and scratch.
@@ -591,6 +595,7 @@ mod tests {
     use mrpp_mapf::GridMap;
 
     const OPTIONS: LnsOptions = LnsOptions {
+        max_density: 1.0,
         window: 6,
         iterations: 10,
         group: 4,

@@ -139,3 +139,40 @@ fn a_run_is_reproducible_from_its_seed() {
         assert_eq!(run(3), run(3));
     }
 }
+
+/// `lifelong-lns` above `lns_max_density` is `lifelong-pibt` (one PIBT step per call), step for
+/// step; below it, it plans its window (so the test can fail).
+#[test]
+fn windowed_lns_steps_aside_above_its_density_limit() {
+    let problem = LifelongProblem::load(
+        &data(EXAMPLES[1]),
+        ActionModel::MapfT,
+        100,
+        Duration::from_secs(1),
+    )
+    .unwrap();
+    let run = |entry: usize, density: Option<&str>| {
+        let mut params = vec![
+            ("scheduler".to_string(), "hungarian".to_string()),
+            ("lns_iterations".to_string(), "100".to_string()),
+        ];
+        if let Some(d) = density {
+            params.push(("lns_max_density".into(), d.into()));
+        } else {
+            params.pop();
+        }
+        let planner = PLANNERS[entry].instantiate(&params).unwrap();
+        let ctx = Ctx {
+            seed: 4,
+            ..Ctx::default()
+        };
+        solve(planner.as_ref(), &problem, &ctx)
+            .unwrap()
+            .plan
+            .actions
+    };
+    assert_eq!(PLANNERS[1].name, "lifelong-lns");
+    let pibt = run(0, None);
+    assert_eq!(run(1, Some("0")), pibt);
+    assert_ne!(run(1, Some("1")), pibt);
+}
