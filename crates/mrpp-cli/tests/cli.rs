@@ -1353,7 +1353,8 @@ fn messages_name_the_option_the_rule_and_the_formats_tried() {
         e.contains("the plan has 30 agents but") && e.contains("ten.scen has only 10"),
         "{e}"
     );
-    // An unsolved plan: nothing to draw, said as such.
+    // An unsolved plan: nothing to check, said as such (its starts and goals can still be
+    // drawn: first_hour.rs, an_unsolved_grid_plan_file_shows_its_starts_and_goals).
     let unsolved = tmp("unsolved.json");
     let o = mrpp(&[
         "solve",
@@ -1371,15 +1372,7 @@ fn messages_name_the_option_the_rule_and_the_formats_tried() {
         unsolved.to_str().unwrap(),
     ]);
     assert_eq!(o.status.code(), Some(3), "{:?}", text(&o));
-    let e = err_of(&[
-        "render",
-        "-m",
-        &m,
-        "--plan",
-        unsolved.to_str().unwrap(),
-        "-o",
-        tmp("u.svg").to_str().unwrap(),
-    ]);
+    let e = err_of(&["validate", "-m", &m, "--plan", unsolved.to_str().unwrap()]);
     assert!(
         e.contains("holds no plan (nothing to check or draw)"),
         "{e}"
