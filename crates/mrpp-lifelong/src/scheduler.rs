@@ -318,6 +318,20 @@ mod tests {
                 new
             })
             .collect();
+        let tasks = tasks
+            .iter()
+            .map(|&(a, b)| vec![(a % n) as VertexId, (b % n) as VertexId])
+            .collect();
+        on(map, starts, tasks, 1.5)
+    }
+
+    /// The problem of `map` with robots on `starts` and `tasks`, `reveal` tasks per robot open.
+    fn on(
+        map: GridMap,
+        starts: Vec<VertexId>,
+        tasks: Vec<Vec<VertexId>>,
+        reveal: f64,
+    ) -> LifelongProblem {
         let files = LorrFiles {
             path: PathBuf::from("p.json"),
             map_path: PathBuf::from("m.map"),
@@ -327,11 +341,8 @@ mod tests {
             start_lines: (0..starts.len()).collect(),
             starts,
             task_lines: (0..tasks.len()).collect(),
-            tasks: tasks
-                .iter()
-                .map(|&(a, b)| vec![(a % n) as VertexId, (b % n) as VertexId])
-                .collect(),
-            num_tasks_reveal: 1.5,
+            tasks,
+            num_tasks_reveal: reveal,
             version: "2024 LoRR".into(),
             json: serde_json::Value::Null,
         };
@@ -393,21 +404,7 @@ mod tests {
     fn matching_and_hungarian_differ_where_greedy_matching_is_short_sighted() {
         let rows = vec![vec![true; 11]];
         let map = GridMap::from_free_rows(&rows);
-        let files = LorrFiles {
-            path: PathBuf::from("p.json"),
-            map_path: PathBuf::from("m.map"),
-            agent_path: PathBuf::from("a.agents"),
-            task_path: PathBuf::from("t.tasks"),
-            map,
-            starts: vec![0, 6],
-            start_lines: vec![1, 2],
-            tasks: vec![vec![5, 5], vec![10, 10]],
-            task_lines: vec![1, 2],
-            num_tasks_reveal: 1.0,
-            version: "2024 LoRR".into(),
-            json: serde_json::Value::Null,
-        };
-        let problem = LifelongProblem::new(files, ActionModel::Mapf, 10, Duration::from_secs(1));
+        let problem = on(map, vec![0, 6], vec![vec![5, 5], vec![10, 10]], 1.0);
         let sim = Simulation::new(&problem);
         let mut dist = Distances::new(11, 1 << 20);
         let far = Deadline::after(Duration::from_secs(60));
