@@ -25,19 +25,6 @@ pub(crate) struct ExecuteArgs {
     /// The grid plan to execute (mrpp's plan JSON or LaCAM text).
     #[arg(long)]
     plan: PathBuf,
-    /// Delays: `none`, or `bernoulli:p=P,min=A,max=B` / `poisson:p=P,min=A,max=B`, with
-    /// optional `duration=gaussian,mean=0.5,std=0.22` (the League's delayConfig).
-    #[arg(long, default_value = "none")]
-    delays: String,
-    /// adg (the action dependency graph) or naive (the plan's timing).
-    #[arg(long, default_value = "adg")]
-    executor: String,
-    /// Ticks per move (the League's agentCounter).
-    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = crate::output::parse_count)]
-    ticks_per_move: usize,
-    /// Side of a robot's square footprint, in cells (the League's agentSize), in (0, 1].
-    #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
-    agent_size: f64,
     /// The delays' seed.
     #[arg(short = 's', long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
     seed: u64,
@@ -49,24 +36,12 @@ pub(crate) struct ExecuteArgs {
 /// `mrpp execute` (module doc).
 pub(crate) fn execute(a: &ExecuteArgs) -> Result<u8, Fail> {
     a.inputs.guard(&[a.plan.as_path()], &[a.out.as_path()])?;
-    let delays = DelayConfig::parse(&a.delays).map_err(Fail)?;
-    let executor = ExecutorKind::parse(&a.executor)
-        .ok_or_else(|| Fail(format!("--executor {}: expected adg or naive", a.executor)))?;
-    let ticks_per_move = u32::try_from(a.ticks_per_move)
-        .ok()
-        .filter(|t| (1..=1000).contains(t))
-        .ok_or_else(|| {
-            Fail(format!(
-                "--ticks-per-move {}: expected 1 to 1000",
-                a.ticks_per_move
-            ))
-        })?;
-    if !(a.agent_size > 0.0 && a.agent_size <= 1.0) {
-        return Err(Fail(format!(
-            "--agent-size {}: expected more than 0 and at most 1 cell",
-            a.agent_size
-        )));
-    }
+    let delays = DelayConfig::parse(a.inputs.delays.as_deref().unwrap_or("none")).map_err(Fail)?;
+    let name = a.inputs.executor.as_deref().unwrap_or("adg");
+    let executor = ExecutorKind::parse(name)
+        .ok_or_else(|| Fail(format!("--executor {name}: expected adg or naive")))?;
+    let ticks_per_move = crate::family::ticks_per_move(&a.inputs)?.unwrap_or(1);
+    let agent_size = crate::family::agent_size(&a.inputs)?.unwrap_or(1.0);
     if a.inputs.lorr.is_some() && a.inputs.lifelong {
         return Err(Fail(
             "mrpp execute runs one-shot grid plans; executing lifelong runs is not built yet"
@@ -81,12 +56,12 @@ pub(crate) fn execute(a: &ExecuteArgs) -> Result<u8, Fail> {
         ticks_per_move,
         delays,
         seed: a.seed,
-        agent_size: a.agent_size,
+        agent_size,
         // Generous: the plan's length x ticks, with room for every robot to be held often.
         max_ticks: (makespan + 1) * u64::from(ticks_per_move) * 50 + 100_000,
     };
     let run = mrpp_exec::execute(&map, &plan, &cfg);
-    let replayed = check(&map, &plan, &run, ticks_per_move, a.agent_size).map_err(|e| {
+    let replayed = check(&map, &plan, &run, ticks_per_move, agent_size).map_err(|e| {
         Fail(format!(
             "the executed record does not replay (a bug in mrpp): {e}"
         ))
@@ -123,7 +98,7 @@ pub(crate) fn execute(a: &ExecuteArgs) -> Result<u8, Fail> {
         "delays": cfg.delays.spec(),
         "seed": a.seed,
         "ticks_per_move": ticks_per_move,
-        "agent_size": a.agent_size,
+        "agent_size": agent_size,
         "ending": run.ending,
         "ticks": run.ticks,
         "metrics": run.metrics,

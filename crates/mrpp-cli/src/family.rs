@@ -65,6 +65,34 @@ pub struct Inputs {
     /// League's); the planner builds distance tables then.
     #[arg(long, allow_negative_numbers = true)]
     pub preprocess_time_limit: Option<f64>,
+    /// Lifelong: run under the League's 2026 execution model for N ticks instead of steps:
+    /// every action takes the problem's agentCounter ticks, robots are delayed as its
+    /// delayConfig says, an executor stages each plan and says go or stop every tick, and the
+    /// planner is called every --plan-every ticks. The output is LoRR's 2026 JSON.
+    #[arg(long, value_parser = crate::output::parse_count, conflicts_with = "steps")]
+    pub ticks: Option<usize>,
+    /// Lifelong in ticks: ticks between planner calls (default 10, the League's
+    /// planCommTimeLimit over its actionMoveTimeLimit); each call gets --step-time-limit.
+    #[arg(long, value_parser = crate::output::parse_count, requires = "ticks")]
+    pub plan_every: Option<usize>,
+    /// Execution: `none`, or `bernoulli:p=P,min=A,max=B` / `poisson:p=P,min=A,max=B`, with
+    /// optional `duration=gaussian,mean=0.5,std=0.22` (the League's delayConfig). Default: none
+    /// for `execute`; the problem's delayConfig for lifelong runs in ticks.
+    #[arg(long)]
+    pub delays: Option<String>,
+    /// Execution: who says when a robot goes. `execute`: adg (the action dependency graph,
+    /// default) or naive (the plan's timing). Lifelong in ticks: tpg (the League's default
+    /// executor, default) or naive.
+    #[arg(long)]
+    pub executor: Option<String>,
+    /// Execution: ticks per action (the League's agentCounter). Default 1 for `execute`; the
+    /// problem's agentCounter (else 10) for lifelong runs in ticks.
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::output::parse_count)]
+    pub ticks_per_move: Option<usize>,
+    /// Execution: side of a robot's square footprint in cells, in (0, 1] (the League's
+    /// agentSize). Default 1, or the problem's agentSize.
+    #[arg(long, allow_negative_numbers = true)]
+    pub agent_size: Option<f64>,
     /// Lifelong: the action model, MAPF_T (orientation: forward, turn, wait; the League's) or
     /// MAPF (4-neighbour moves).
     #[arg(long)]
@@ -86,6 +114,35 @@ pub struct Inputs {
     /// Trees: forbid following (entering a node another robot leaves in the same step).
     #[arg(long)]
     pub no_following: bool,
+}
+
+/// `--ticks-per-move`, checked (1 to 1000), if given.
+pub(crate) fn ticks_per_move(inputs: &Inputs) -> Result<Option<u32>, Fail> {
+    inputs
+        .ticks_per_move
+        .map(|t| {
+            u32::try_from(t)
+                .ok()
+                .filter(|t| (1..=1000).contains(t))
+                .ok_or_else(|| Fail(format!("--ticks-per-move {t}: expected 1 to 1000")))
+        })
+        .transpose()
+}
+
+/// `--agent-size`, checked (in (0, 1] cells), if given.
+pub(crate) fn agent_size(inputs: &Inputs) -> Result<Option<f64>, Fail> {
+    inputs
+        .agent_size
+        .map(|s| {
+            if s > 0.0 && s <= 1.0 {
+                Ok(s)
+            } else {
+                Err(Fail(format!(
+                    "--agent-size {s}: expected more than 0 and at most 1 cell"
+                )))
+            }
+        })
+        .transpose()
 }
 
 impl Inputs {

@@ -14,6 +14,8 @@ use serde_json::{Map, Value, json};
 use mrpp_bench::report::{Panel, Series, line_panels};
 use mrpp_core::Problem;
 use mrpp_core::mapf::plan_file::RunInfo;
+use mrpp_lifelong::execution::ExecutionModel;
+use mrpp_lifelong::executor::ExecutorKind;
 use mrpp_lifelong::lorr_output::{from_json, model_of, to_json};
 use mrpp_lifelong::problem::{DEFAULT_PREPROCESS_TIME, DEFAULT_STEP_TIME, DEFAULT_STEPS};
 use mrpp_lifelong::{ActionModel, LifelongProblem};
@@ -104,25 +106,84 @@ pub(crate) fn load_problem(inputs: &Inputs) -> Result<LifelongProblem, Fail> {
         DEFAULT_PREPROCESS_TIME,
         "--preprocess-time-limit",
     )?;
-    Ok(
-        LifelongProblem::load(path, model(inputs)?, steps(inputs)?, step_time(inputs)?)?
-            .with_preprocess_time(preprocess),
-    )
+    let horizon = match inputs.ticks {
+        None => steps(inputs)?,
+        Some(n) if (1..=10_000_000).contains(&n) => n as u32,
+        Some(n) => return Err(Fail(format!("--ticks must be 1..=10000000, got {n}"))),
+    };
+    let problem = LifelongProblem::load(path, model(inputs)?, horizon, step_time(inputs)?)?
+        .with_preprocess_time(preprocess);
+    if inputs.ticks.is_none() {
+        for (given, flag) in [
+            (inputs.delays.is_some(), "--delays"),
+            (inputs.executor.is_some(), "--executor"),
+            (inputs.ticks_per_move.is_some(), "--ticks-per-move"),
+            (inputs.agent_size.is_some(), "--agent-size"),
+        ] {
+            if given {
+                return Err(Fail(format!(
+                    "{flag} applies to lifelong runs in ticks: add --ticks N (the League's 2026 execution model)"
+                )));
+            }
+        }
+        return Ok(problem);
+    }
+    let execution = execution_model(inputs, problem.files())?;
+    Ok(problem.with_execution(execution))
+}
+
+/// The 2026 execution model of a run in ticks: the problem file's, with the flags given.
+fn execution_model(inputs: &Inputs, files: &lorr_files::LorrFiles) -> Result<ExecutionModel, Fail> {
+    let mut m = ExecutionModel::of_problem(files)?;
+    if let Some(spec) = &inputs.delays {
+        m.delays = mrpp_exec::DelayConfig::parse(spec).map_err(Fail)?;
+    }
+    if let Some(name) = &inputs.executor {
+        m.executor = ExecutorKind::parse(name)
+            .ok_or_else(|| Fail(format!("--executor {name}: expected tpg (the League's default executor) or naive for lifelong runs")))?;
+    }
+    if let Some(t) = crate::family::ticks_per_move(inputs)? {
+        m.agent_counter = t;
+    }
+    if let Some(s) = crate::family::agent_size(inputs)? {
+        m.agent_size = s;
+    }
+    if let Some(k) = inputs.plan_every {
+        m.plan_every = u32::try_from(k)
+            .ok()
+            .filter(|k| (1..=100_000).contains(k))
+            .ok_or_else(|| Fail(format!("--plan-every {k}: expected 1 to 100000 ticks")))?;
+    }
+    Ok(m)
 }
 
 fn load(inputs: &Inputs) -> Result<Loaded<LifelongProblem>, Fail> {
     let path = lorr_path(inputs)?;
     let problem = load_problem(inputs)?;
     let f = problem.files();
+    let horizon = match problem.execution() {
+        None => format!(
+            "{} steps, {} s per step",
+            problem.steps(),
+            problem.step_time().as_secs_f64()
+        ),
+        Some(m) => format!(
+            "{} ticks, {} per action | a plan every {} ticks, {} s each | executor {} | delays {}",
+            problem.steps(),
+            m.agent_counter,
+            m.plan_every,
+            problem.step_time().as_secs_f64(),
+            m.executor.name(),
+            m.delays.spec()
+        ),
+    };
     let summary = format!(
-        "map {} | robots {} | {} tasks in the file, {} open at a time | {} | {} steps, {} s per step",
+        "map {} | robots {} | {} tasks in the file, {} open at a time | {} | {horizon}",
         file_name(&f.map_path),
         f.team_size(),
         f.tasks.len(),
         f.reveal_pool(),
         problem.model().name(),
-        problem.steps(),
-        problem.step_time().as_secs_f64()
     );
     let problem_file = file_name(path);
     Ok(Loaded {
@@ -146,13 +207,18 @@ fn write_plan(
             to_json(problem, &s.plan).map_err(Fail)?,
             if s.metrics.steps < problem.steps() {
                 // The run's --time-limit (or Ctrl-C) stopped it before the horizon.
+                let unit = if problem.execution().is_some() {
+                    "ticks"
+                } else {
+                    "steps"
+                };
                 eprintln!(
-                    "mrpp: warning: the run stopped at the time limit after {} of {} steps (--time-limit covers the whole run)",
+                    "mrpp: warning: the run stopped at the time limit after {} of {} {unit} (--time-limit covers the whole run)",
                     s.metrics.steps,
                     problem.steps()
                 );
                 format!(
-                    "stopped after {} of {} steps (time limit)",
+                    "stopped after {} of {} {unit} (time limit)",
                     s.metrics.steps,
                     problem.steps()
                 )
@@ -184,6 +250,15 @@ fn write_plan(
         "status": status,
         "steps": problem.steps(),
         "step_time_limit_s": problem.step_time().as_secs_f64(),
+        "execution": problem.execution().map(|m| json!({
+            "ticks": problem.steps(),
+            "agent_counter": m.agent_counter,
+            "agent_size": m.agent_size,
+            "delays": m.delays.spec(),
+            "delay_seed": m.delay_seed,
+            "plan_every": m.plan_every,
+            "executor": m.executor.name(),
+        })),
         "metrics": metrics,
         "runtime_ms": info.runtime_ms,
         "preprocess_s": preprocess,
@@ -215,11 +290,17 @@ fn read_plan(inputs: &Inputs, plan_path: &Path) -> Result<ReadPlan<LifelongProbl
     }
     let files = lorr_files::load(path)?;
     // The horizon: --steps, else the run's own length (a run may stop early).
-    let run_steps = json
-        .get("actualPaths")
-        .and_then(|p| p.get(0))
-        .and_then(Value::as_str)
-        .map_or(0, |s| s.split(',').filter(|l| !l.is_empty()).count());
+    let in_ticks = json.get("version").and_then(Value::as_str)
+        == Some(mrpp_lifelong::lorr_output::VERSION_2026);
+    let run_steps = if in_ticks {
+        // Ticks: the 2026 layout's `makespan` (its paths may be shorter, never longer).
+        json.get("makespan").and_then(Value::as_u64).unwrap_or(0) as usize
+    } else {
+        json.get("actualPaths")
+            .and_then(|p| p.get(0))
+            .and_then(Value::as_str)
+            .map_or(0, |s| s.split(',').filter(|l| !l.is_empty()).count())
+    };
     let horizon = match inputs.steps {
         Some(_) => steps(inputs)?,
         None => (run_steps as u32).max(1),

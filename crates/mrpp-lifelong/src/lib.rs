@@ -14,6 +14,8 @@
 //! `docs/lorr-semantics.md` has the kit's semantics with file and line references.
 
 pub mod distances;
+pub mod execution;
+pub mod executor;
 pub mod guide_paths;
 pub mod lorr_output;
 pub mod model;
@@ -22,6 +24,7 @@ pub mod rotation_pibt;
 pub mod runner;
 pub mod scheduler;
 pub mod sim;
+pub mod ticks;
 pub mod window_lns;
 
 pub use model::{Action, ActionModel, State};

@@ -21,17 +21,29 @@ use serde_json::{Value, json};
 
 use mrpp_core::error::{Error, Result};
 
+use crate::execution::{TickRecord, replay_ticks};
 use crate::model::{Action, ActionModel};
+use crate::model::{EAST, State};
 use crate::problem::{Assign, LifelongProblem, ScheduleErrorRecord, StepError, Trace, replay};
+use crate::ticks::{TickState, after_tick};
 
-/// The `version` mrpp writes.
+/// The `version` mrpp writes for runs in steps.
 pub const VERSION: &str = "2024 LoRR";
+
+/// The `version` mrpp writes for runs in ticks (the 2026 execution model).
+pub const VERSION_2026: &str = "2026 LoRR";
+
+/// Ticks per path segment in the 2026 layout (the kit's, fixed).
+pub const SEGMENT: usize = 100;
 
 /// LoRR's output JSON for `trace` on `problem` (module doc).
 ///
 /// # Errors
 /// The validator's message when `trace` breaks a rule (only valid traces are written).
 pub fn to_json(problem: &LifelongProblem, trace: &Trace) -> std::result::Result<Value, String> {
+    if let Some(record) = &trace.ticks {
+        return to_json_2026(problem, trace, record);
+    }
     let n = problem.starts().len();
     let map = problem.map();
     let mut held = vec![0u32; n];
@@ -94,6 +106,149 @@ pub fn to_json(problem: &LifelongProblem, trace: &Trace) -> std::result::Result<
     }))
 }
 
+/// Each robot's per-tick actions as the 2026 layout's segments: per [`SEGMENT`] ticks
+/// `[(t0,row,col,orientation,counter):(A n,A n,...)]` (run-length pairs), the header holding the
+/// robot's state at the segment's first tick (the kit writes segment 0's state in every header;
+/// PlanViz ignores headers).
+fn segments(
+    problem: &LifelongProblem,
+    record: &TickRecord,
+    per_robot: &[Vec<Action>],
+) -> Vec<String> {
+    let map = problem.map();
+    per_robot
+        .iter()
+        .zip(problem.starts())
+        .map(|(actions, &start)| {
+            let mut s = TickState::idle(State {
+                vertex: start,
+                orientation: EAST,
+            });
+            let mut out = String::new();
+            for (k, chunk) in actions.chunks(SEGMENT).enumerate() {
+                let (x, y) = map.cell(s.state.vertex);
+                out.push_str(&format!(
+                    "[({},{y},{x},{},{}):(",
+                    k * SEGMENT,
+                    s.state.orientation,
+                    s.counter
+                ));
+                let mut runs: Vec<(char, usize)> = Vec::new();
+                for &a in chunk {
+                    match runs.last_mut() {
+                        Some((c, count)) if *c == a.letter() => *count += 1,
+                        _ => runs.push((a.letter(), 1)),
+                    }
+                    s = after_tick(map, s, a, record.agent_counter).unwrap_or(s);
+                }
+                let body: Vec<String> = runs.iter().map(|(c, k)| format!("{c} {k}")).collect();
+                out.push_str(&body.join(","));
+                out.push_str(")]");
+            }
+            out
+        })
+        .collect()
+}
+
+/// LoRR's 2026 output JSON (`"version": "2026 LoRR"`, start kit v3.1.0 `saveResults`; keys in
+/// its order) for a run in ticks: `makespan` is the ticks run, paths are segments
+/// ([`segments`]), `delayIntervals` per robot `[start, end]` (held during `start..end-1`),
+/// `errors` every robot made to wait, every tick (the kit keeps only the last tick's).
+fn to_json_2026(
+    problem: &LifelongProblem,
+    trace: &Trace,
+    record: &TickRecord,
+) -> std::result::Result<Value, String> {
+    let n = problem.starts().len();
+    let map = problem.map();
+    let sim = replay_ticks(problem, trace, record, |_| {}).map_err(|e| e.to_string())?;
+    let row_col = |v| {
+        let (x, y) = map.cell(v);
+        (y, x)
+    };
+    let schedules = |changes: &[Assign]| -> Vec<String> {
+        let mut per = vec![Vec::new(); n];
+        for c in changes {
+            per[c.agent].push(format!("{}:{}", c.t, c.task.map_or(-1, |k| k as i64)));
+        }
+        per.into_iter().map(|v| v.join(",")).collect()
+    };
+    Ok(json!({
+        "actionModel": problem.model().name(),
+        "version": VERSION_2026,
+        "teamSize": n,
+        "numTaskFinished": sim.finished,
+        "makespan": trace.steps(),
+        "numPlannerErrors": trace.errors.len(),
+        "numScheduleErrors": trace.schedule_errors.len(),
+        "numEntryTimeouts": record.entry_timeouts,
+        "agentMaxCounter": record.agent_counter,
+        "outputSegmentSize": SEGMENT,
+        "delayIntervals": record.delays,
+        "start": problem.starts().iter().map(|&v| {
+            let (r, c) = row_col(v);
+            json!([r, c, "E"])
+        }).collect::<Vec<_>>(),
+        "actualPaths": segments(problem, record, &trace.actions),
+        "events": sim.events.iter().map(|e| json!([e.t, e.agent, e.task, e.done])).collect::<Vec<_>>(),
+        "tasks": sim.tasks.iter().map(|t| {
+            let cells: Vec<u32> = t.errands.iter().flat_map(|&v| {
+                let (r, c) = row_col(v);
+                [r, c]
+            }).collect();
+            json!([t.id, t.revealed, cells])
+        }).collect::<Vec<_>>(),
+        "plannerPaths": segments(problem, record, &trace.planned),
+        "plannerTimes": trace.planner_times,
+        "errors": trace.errors.iter().map(|e| json!([e.agent1, e.agent2, e.t, e.message])).collect::<Vec<_>>(),
+        "actualSchedule": schedules(&trace.schedule),
+        "plannerSchedule": schedules(&trace.proposed_schedule),
+        "scheduleErrors": trace.schedule_errors.iter().map(|e| json!([e.task, e.agent1, e.agent2, e.t, e.message])).collect::<Vec<_>>(),
+    }))
+}
+
+/// Per-tick actions of one robot's 2026 path string (segments; headers ignored).
+///
+/// # Errors
+/// A message naming the segment: no `):(`, a pair that is not `letter count`, a letter outside
+/// the model.
+fn parse_segments(model: ActionModel, s: &str) -> std::result::Result<Vec<Action>, String> {
+    let mut out = Vec::new();
+    for (k, seg) in s
+        .split(']')
+        .map(str::trim)
+        .filter(|x| !x.is_empty())
+        .enumerate()
+    {
+        let body = seg
+            .split_once("):(")
+            .map(|(_, b)| b.trim_end_matches(')'))
+            .ok_or_else(|| format!("segment {} has no `):(`", k + 1))?;
+        for pair in body.split(',').map(str::trim).filter(|x| !x.is_empty()) {
+            let bad = || format!("segment {}: `{pair}` is not `letter count`", k + 1);
+            let (letter, count) = pair.split_once(' ').ok_or_else(bad)?;
+            let count: usize = count.trim().parse().map_err(|_| bad())?;
+            let mut chars = letter.chars();
+            let action = match (chars.next(), chars.next()) {
+                (Some(c), None) => Action::from_letter(model, c),
+                _ => None,
+            }
+            .ok_or_else(|| {
+                format!(
+                    "segment {}: `{letter}` is not a {} action",
+                    k + 1,
+                    model.name()
+                )
+            })?;
+            if out.len() + count > 10_000_000 {
+                return Err(format!("segment {}: more than 10,000,000 ticks", k + 1));
+            }
+            out.extend(std::iter::repeat_n(action, count));
+        }
+    }
+    Ok(out)
+}
+
 /// What an output JSON says besides its trace, for comparing with a replay.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Claims {
@@ -127,6 +282,7 @@ pub fn from_json(problem: &LifelongProblem, text: &str, path: &Path) -> Result<(
             format!("`teamSize` is {team}, the problem has {n} robots"),
         ));
     }
+    let in_ticks = json.get("version").and_then(Value::as_str) == Some(VERSION_2026);
     let paths = |key: &str| -> Result<Option<Vec<Vec<Action>>>> {
         let Some(v) = json.get(key) else {
             return Ok(None);
@@ -141,6 +297,10 @@ pub fn from_json(problem: &LifelongProblem, text: &str, path: &Path) -> Result<(
                 let s = p
                     .as_str()
                     .ok_or_else(|| Error::invalid(path, format!("`{key}`[{i}] is not a string")))?;
+                if in_ticks {
+                    return parse_segments(model, s)
+                        .map_err(|e| Error::invalid(path, format!("`{key}`[{i}]: {e}")));
+                }
                 s.split(',')
                     .filter(|l| !l.is_empty())
                     .enumerate()
@@ -182,7 +342,7 @@ pub fn from_json(problem: &LifelongProblem, text: &str, path: &Path) -> Result<(
     }
     let planned = paths("plannerPaths")?.unwrap_or_else(|| actions.clone());
     let late_steps = (0..steps)
-        .filter(|&k| n > 0 && actions.iter().all(|a| a[k] == Action::NoAction))
+        .filter(|&k| !in_ticks && n > 0 && actions.iter().all(|a| a[k] == Action::NoAction))
         .map(|k| k as u32)
         .collect();
     let schedule = schedule_changes(&json, "actualSchedule", n, path)?;
@@ -233,6 +393,9 @@ pub fn from_json(problem: &LifelongProblem, text: &str, path: &Path) -> Result<(
         errors,
         schedule_errors,
         preprocess_time: 0.0,
+        ticks: in_ticks
+            .then(|| tick_record(problem, &json, n, path))
+            .transpose()?,
     };
     Ok((
         trace,
@@ -241,6 +404,67 @@ pub fn from_json(problem: &LifelongProblem, text: &str, path: &Path) -> Result<(
             tasks_finished,
         },
     ))
+}
+
+/// The tick record of a 2026 output JSON: `agentMaxCounter` (default 10), `delayIntervals`,
+/// `numEntryTimeouts`, and the footprint of the problem (`agentSize`, default 1; the output
+/// does not say).
+fn tick_record(
+    problem: &LifelongProblem,
+    json: &Value,
+    n: usize,
+    path: &Path,
+) -> Result<TickRecord> {
+    let agent_counter = json
+        .get("agentMaxCounter")
+        .and_then(Value::as_u64)
+        .unwrap_or(10)
+        .clamp(1, 1000) as u32;
+    let agent_size = match problem.execution() {
+        Some(m) => m.agent_size,
+        None => crate::execution::ExecutionModel::of_problem(problem.files())?.agent_size,
+    };
+    let mut delays = vec![Vec::new(); n];
+    if let Some(list) = json.get("delayIntervals").and_then(Value::as_array) {
+        if list.len() != n {
+            return Err(Error::invalid(
+                path,
+                format!(
+                    "`delayIntervals` lists {} robots, the problem has {n}",
+                    list.len()
+                ),
+            ));
+        }
+        for (i, per) in list.iter().enumerate() {
+            for iv in per.as_array().into_iter().flatten() {
+                let pair = iv
+                    .as_array()
+                    .and_then(|p| Some([p.first()?.as_u64()?, p.get(1)?.as_u64()?]));
+                match pair {
+                    Some([a, b]) if a < b => delays[i].push([a, b]),
+                    _ => {
+                        return Err(Error::invalid(
+                            path,
+                            format!(
+                                "`delayIntervals`[{i}]: `{iv}` is not [start, end] with start < end"
+                            ),
+                        ));
+                    }
+                }
+            }
+        }
+    }
+    Ok(TickRecord {
+        agent_counter,
+        agent_size,
+        delays,
+        entry_timeouts: json
+            .get("numEntryTimeouts")
+            .and_then(Value::as_u64)
+            .unwrap_or(0) as u32,
+        executor: String::new(),
+        plan_every: 0,
+    })
 }
 
 /// The action model an output JSON declares (`actionModel`).

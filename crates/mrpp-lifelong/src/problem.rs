@@ -13,6 +13,7 @@ use mrpp_core::mapf::graph::VertexId;
 use mrpp_mapf::GridMap;
 use mrpp_mapf::lorr_files::{self, LorrFiles};
 
+use crate::execution::{ExecutionModel, TickRecord};
 use crate::model::{Action, ActionModel};
 use crate::sim::Simulation;
 
@@ -35,6 +36,7 @@ pub struct LifelongProblem {
     steps: u32,
     step_time: Duration,
     preprocess_time: Duration,
+    execution: Option<ExecutionModel>,
 }
 
 impl LifelongProblem {
@@ -47,7 +49,20 @@ impl LifelongProblem {
             steps: steps.max(1),
             step_time,
             preprocess_time: DEFAULT_PREPROCESS_TIME,
+            execution: None,
         }
+    }
+
+    /// The same problem run under the 2026 execution model ([`crate::execution`]): its
+    /// horizon (`steps`) then counts ticks, and `step_time` is the planning period's time.
+    pub fn with_execution(mut self, model: ExecutionModel) -> Self {
+        self.execution = Some(model);
+        self
+    }
+
+    /// The execution model, when the run is in ticks.
+    pub fn execution(&self) -> Option<&ExecutionModel> {
+        self.execution.as_ref()
     }
 
     /// The same problem with `limit` for preprocessing (before step 0; not counted in any step).
@@ -153,6 +168,9 @@ pub struct Trace {
     pub schedule_errors: Vec<ScheduleErrorRecord>,
     /// Wall time of the preprocessing before step 0, seconds.
     pub preprocess_time: f64,
+    /// Under the 2026 execution model ([`crate::execution`]): the steps are ticks, and this
+    /// holds what else was executed (delays, ticks per action, footprints).
+    pub ticks: Option<TickRecord>,
 }
 
 impl Trace {
@@ -218,6 +236,14 @@ pub enum LifelongViolation {
         agent1: i64,
         agent2: i64,
     },
+    #[error("tick {tick}: robot {agent} acts while delayed (only `W` is allowed then)")]
+    MovesWhenDelayed { tick: u32, agent: usize },
+    #[error("tick {tick}: the footprints of robots {agent1} and {agent2} overlap")]
+    Footprints {
+        tick: u32,
+        agent1: usize,
+        agent2: usize,
+    },
     #[error("schedule change {index} is out of order or past the run (step {step})")]
     ScheduleOrder { index: usize, step: u32 },
 }
@@ -232,7 +258,10 @@ impl mrpp_core::Problem for LifelongProblem {
     }
 
     fn validate(&self, trace: &Trace) -> std::result::Result<LifelongMetrics, LifelongViolation> {
-        let sim = replay(self, trace, |_| {})?;
+        let sim = match &trace.ticks {
+            None => replay(self, trace, |_| {})?,
+            Some(record) => crate::execution::replay_ticks(self, trace, record, |_| {})?,
+        };
         let times = &trace.planner_times;
         Ok(LifelongMetrics {
             tasks_finished: sim.finished,
@@ -245,7 +274,10 @@ impl mrpp_core::Problem for LifelongProblem {
             },
             planner_errors: trace.errors.len(),
             schedule_errors: trace.schedule_errors.len(),
-            late_steps: trace.late_steps.len(),
+            late_steps: trace
+                .ticks
+                .as_ref()
+                .map_or(trace.late_steps.len(), |r| r.entry_timeouts as usize),
             mean_planner_ms: if times.is_empty() {
                 0.0
             } else {

@@ -338,6 +338,12 @@ pub fn run(
             break;
         }
     }
+    if let Some(model) = problem.execution() {
+        let preprocess_time = started.elapsed().as_secs_f64();
+        let mut trace = crate::execution::run_ticks(problem, model, ctx, &mut dist, call)?;
+        trace.preprocess_time = preprocess_time;
+        return Ok(trace);
+    }
     let mut run = Run::new(problem);
     run.trace.preprocess_time = started.elapsed().as_secs_f64();
     while run.sim.t < steps && !ctx.deadline.expired() {

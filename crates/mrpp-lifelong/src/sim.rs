@@ -304,25 +304,38 @@ impl<'p> Simulation<'p> {
         &mut self,
         schedule: Option<&[Option<usize>]>,
     ) -> Vec<(usize, Option<usize>)> {
+        let changed = schedule.map_or_else(Vec::new, |s| self.apply_schedule(s));
+        self.complete_and_reveal();
+        changed
+    }
+
+    /// Applies `schedule` (already checked): each robot's task. Returns the robots whose task
+    /// changed, as `(robot, task)`.
+    pub fn apply_schedule(&mut self, schedule: &[Option<usize>]) -> Vec<(usize, Option<usize>)> {
         let mut changed = Vec::new();
-        if let Some(schedule) = schedule {
-            for (i, &proposal) in schedule.iter().enumerate() {
-                if self.assignment[i] != proposal {
-                    if let Some(old) = self.assignment[i]
-                        && self.tasks[old].agent == Some(i)
-                    {
-                        self.tasks[old].agent = None;
-                    }
-                    changed.push((i, proposal));
+        for (i, &proposal) in schedule.iter().enumerate() {
+            if self.assignment[i] != proposal {
+                if let Some(old) = self.assignment[i]
+                    && self.tasks[old].agent == Some(i)
+                {
+                    self.tasks[old].agent = None;
                 }
-            }
-            for &(i, proposal) in &changed {
-                self.assignment[i] = proposal;
-                if let Some(k) = proposal {
-                    self.tasks[k].agent = Some(i);
-                }
+                changed.push((i, proposal));
             }
         }
+        for &(i, proposal) in &changed {
+            self.assignment[i] = proposal;
+            if let Some(k) = proposal {
+                self.tasks[k].agent = Some(i);
+            }
+        }
+        changed
+    }
+
+    /// Completes the errands robots stand on (one per robot), finishes tasks, frees their
+    /// robots and reveals new tasks. Returns the robots that finished a task.
+    pub fn complete_and_reveal(&mut self) -> Vec<usize> {
+        let mut freed = Vec::new();
         for i in 0..self.states.len() {
             let Some(k) = self.assignment[i] else {
                 continue;
@@ -344,10 +357,11 @@ impl<'p> Simulation<'p> {
                 self.assignment[i] = None;
                 self.open.remove(&k);
                 self.finished += 1;
+                freed.push(i);
             }
         }
         self.reveal();
-        changed
+        freed
     }
 
     /// Reveals tasks until the pool is full.

@@ -1,0 +1,164 @@
+//! Lifelong runs under the League of Robot Runners' 2026 execution model (ticks, delays, an
+//! executor): every planner on the bundled examples, validated by `solve` (footprints, delays,
+//! tasks recounted), written as LoRR's 2026 output JSON and read back; and the validator
+//! refusing what it must refuse.
+
+use std::path::{Path, PathBuf};
+use std::time::Duration;
+
+use mrpp_core::{Ctx, Problem, solve};
+use mrpp_exec::DelayConfig;
+use mrpp_lifelong::execution::ExecutionModel;
+use mrpp_lifelong::executor::ExecutorKind;
+use mrpp_lifelong::lorr_output::{from_json, to_json};
+use mrpp_lifelong::{Action, ActionModel, LifelongProblem, LifelongViolation, PLANNERS};
+
+fn data(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../data/robot-runners")
+        .join(rel)
+}
+
+fn in_ticks(
+    example: &str,
+    model: ActionModel,
+    ticks: u32,
+    change: impl FnOnce(&mut ExecutionModel),
+) -> LifelongProblem {
+    let problem =
+        LifelongProblem::load(&data(example), model, ticks, Duration::from_secs(1)).unwrap();
+    let mut m = ExecutionModel::of_problem(problem.files()).unwrap();
+    change(&mut m);
+    problem.with_execution(m)
+}
+
+#[test]
+fn every_planner_runs_in_ticks_under_delays_and_its_2026_output_reads_back() {
+    for example in [
+        "lorr2023-warehouse_small/warehouse_small_10.json",
+        "lorr2026-maze/maze-example_40.json",
+    ] {
+        for model in [ActionModel::MapfT, ActionModel::Mapf] {
+            for (executor, size, counter) in [
+                (ExecutorKind::Tpg, 1.0, 3),
+                (ExecutorKind::Tpg, 0.5, 2),
+                (ExecutorKind::Naive, 1.0, 3),
+            ] {
+                let problem = in_ticks(example, model, 300, |m| {
+                    m.executor = executor;
+                    m.agent_size = size;
+                    m.agent_counter = counter;
+                    m.delays = DelayConfig::parse("bernoulli:p=0.01,min=1,max=6").unwrap();
+                    m.delay_seed = 3;
+                });
+                for entry in PLANNERS {
+                    let what = format!(
+                        "{example}, {}, {}, {}, size {size}, counter {counter}",
+                        model.name(),
+                        entry.name,
+                        executor.name()
+                    );
+                    let planner = entry
+                        .instantiate(&[("lns_iterations".into(), "50".into())])
+                        .unwrap();
+                    let ctx = Ctx {
+                        seed: 5,
+                        ..Ctx::default()
+                    };
+                    let solved = solve(planner.as_ref(), &problem, &ctx)
+                        .unwrap_or_else(|e| panic!("{what}: {e}"));
+                    let m = solved.metrics;
+                    assert_eq!(m.steps, 300, "{what}");
+                    let record = solved.plan.ticks.as_ref().expect("a run in ticks");
+                    let delayed: usize = record.delays.iter().map(Vec::len).sum();
+                    assert!(
+                        delayed > 0,
+                        "{what}: p = 0.01 over 300 ticks delays someone"
+                    );
+                    if executor == ExecutorKind::Tpg {
+                        assert!(m.tasks_finished > 0, "{what}: no task finished");
+                    }
+                    let json = to_json(&problem, &solved.plan).unwrap();
+                    assert_eq!(json["version"], "2026 LoRR");
+                    assert_eq!(json["makespan"], 300);
+                    assert_eq!(json["numTaskFinished"], m.tasks_finished, "{what}");
+                    let (back, _) =
+                        from_json(&problem, &json.to_string(), Path::new("out.json")).unwrap();
+                    assert_eq!(back.actions, solved.plan.actions, "{what}");
+                    assert_eq!(back.planned, solved.plan.planned, "{what}");
+                    assert_eq!(back.schedule, solved.plan.schedule, "{what}");
+                    assert_eq!(back.ticks.as_ref().unwrap().delays, record.delays, "{what}");
+                    let again = problem.validate(&back).unwrap();
+                    assert_eq!(again.tasks_finished, m.tasks_finished, "{what}");
+                    eprintln!(
+                        "{what}: {} tasks, {} delays, {} waits imposed",
+                        m.tasks_finished, delayed, m.planner_errors
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn the_validator_refuses_a_delayed_robot_that_moves_and_overlapping_footprints() {
+    let problem = in_ticks(
+        "lorr2026-maze/maze-example_40.json",
+        ActionModel::MapfT,
+        200,
+        |m| m.delays = DelayConfig::parse("bernoulli:p=0.02,min=2,max=4").unwrap(),
+    );
+    let planner = PLANNERS[0].instantiate(&[]).unwrap();
+    let solved = solve(planner.as_ref(), &problem, &Ctx::default()).unwrap();
+    let record = solved.plan.ticks.clone().unwrap();
+    // A robot held by a delay that turns anyway.
+    let (agent, tick) = record
+        .delays
+        .iter()
+        .enumerate()
+        .find_map(|(i, d)| d.first().map(|iv| (i, iv[0] as usize)))
+        .expect("some delay");
+    let mut bad = solved.plan.clone();
+    bad.actions[agent][tick] = Action::Clockwise;
+    assert_eq!(
+        problem.validate(&bad),
+        Err(LifelongViolation::MovesWhenDelayed {
+            tick: tick as u32 + 1,
+            agent
+        })
+    );
+    // Two robots in one corridor: the one behind drives into the one in front, which waits.
+    let mut bad = solved.plan.clone();
+    let (first, second) = find_robot_behind(&problem, &bad).expect("a robot facing another");
+    for t in 0..bad.steps() as usize {
+        bad.actions[second][t] = Action::Wait;
+        bad.actions[first][t] = if t < 3 { Action::Forward } else { Action::Wait };
+    }
+    bad.ticks.as_mut().unwrap().delays = vec![Vec::new(); problem.num_agents()];
+    bad.schedule.clear();
+    match problem.validate(&bad) {
+        Err(LifelongViolation::Footprints {
+            tick: 1,
+            agent1,
+            agent2,
+        }) => assert_eq!(
+            (agent1.min(agent2), agent1.max(agent2)),
+            (first.min(second), first.max(second))
+        ),
+        other => panic!("expected overlapping footprints at tick 1, got {other:?}"),
+    }
+}
+
+/// A robot facing (east, as every robot starts) the cell of another robot.
+fn find_robot_behind(
+    problem: &LifelongProblem,
+    _: &mrpp_lifelong::Trace,
+) -> Option<(usize, usize)> {
+    let map = problem.map();
+    let starts = problem.starts();
+    starts.iter().enumerate().find_map(|(i, &v)| {
+        let (x, y) = map.cell(v);
+        let ahead = map.vertex_at(i64::from(x) + 1, i64::from(y))?;
+        starts.iter().position(|&w| w == ahead).map(|j| (i, j))
+    })
+}
