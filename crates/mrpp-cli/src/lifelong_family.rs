@@ -441,6 +441,11 @@ fn render(inputs: &Inputs, plan: &Path) -> Result<String, Fail> {
     let rate = at(w)
         .map(|t| (t as f64, (finished[t] - finished[t - w]) as f64 / w as f64))
         .collect();
+    let unit = if read.plan.ticks.is_some() {
+        "tick"
+    } else {
+        "step"
+    };
     let name = read.about.clone();
     let series = |points| Series {
         name: name.clone(),
@@ -453,18 +458,18 @@ fn render(inputs: &Inputs, plan: &Path) -> Result<String, Fail> {
             series: vec![series(cumulative)],
         },
         Panel {
-            title: format!("tasks finished per step (mean of the last {w})"),
+            title: format!("tasks finished per {unit} (mean of the last {w})"),
             series: vec![series(rate)],
         },
     ];
     let title = format!(
-        "{} | {} robots | {} tasks finished in {} steps",
+        "{} | {} robots | {} tasks finished in {} {unit}s",
         file_name(&problem.files().path),
         problem.num_agents(),
         finished[last],
         last
     );
-    line_panels(&title, "step", "tasks", &panels)
+    line_panels(&title, unit, "tasks", &panels)
         .map_err(|e| Fail(format!("{}: {e}", plan.display())))
 }
 

@@ -480,3 +480,156 @@ fn gen_lorr_writes_a_problem_the_start_kit_layout_reads_and_mrpp_runs() {
     assert!(!dir.join("p.txt").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn a_run_in_ticks_under_delays_is_written_validated_and_bad_settings_are_refused() {
+    let dir = tmp("ticks");
+    let out = dir.join("ticks.json");
+    let o = out.to_str().unwrap();
+    let (code, stdout, err) = mrpp(&[
+        "solve",
+        "--lorr",
+        MAZE,
+        "-P",
+        "lifelong-pibt",
+        "--ticks",
+        "400",
+        "--delays",
+        "bernoulli:p=0.01,min=2,max=6",
+        "-o",
+        o,
+    ]);
+    assert_eq!(code, Some(0), "{stdout}{err}");
+    assert!(stdout.contains("400 ticks, 3 per action"), "{stdout}");
+    let run: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(run["version"], "2026 LoRR");
+    assert_eq!(run["makespan"], 400);
+    assert_eq!(run["agentMaxCounter"], 3);
+    let finished = run["numTaskFinished"].as_u64().unwrap();
+    assert!(finished > 0);
+    let delays: usize = run["delayIntervals"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|d| d.as_array().unwrap().len())
+        .sum();
+    assert!(delays > 0, "p = 0.01 over 400 ticks delays someone");
+    assert_eq!(run["mrpp"]["execution"]["executor"], "tpg");
+    let (code, stdout, err) = mrpp(&["validate", "--lorr", MAZE, "--plan", o]);
+    assert_eq!(code, Some(0), "{stdout}{err}");
+    assert!(
+        stdout.contains(&format!("tasks_finished {finished}")),
+        "{stdout}"
+    );
+    // A delayed robot that turns anyway: refused, naming the tick and the robot.
+    let mut bad = run.clone();
+    let (agent, start) = run["delayIntervals"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .enumerate()
+        .find_map(|(i, d)| Some((i, d.get(0)?.get(0)?.as_u64()?)))
+        .unwrap();
+    // The robot's own ticks, with one action changed.
+    let mut ticks: Vec<char> = Vec::new();
+    for seg in run["actualPaths"][agent].as_str().unwrap().split(']') {
+        let Some((_, body)) = seg.split_once("):(") else {
+            continue;
+        };
+        for pair in body.trim_end_matches(')').split(',') {
+            let (l, k) = pair.split_once(' ').unwrap();
+            let k: usize = k.parse().unwrap();
+            ticks.extend(std::iter::repeat_n(l.chars().next().unwrap(), k));
+        }
+    }
+    assert_eq!(ticks[start as usize], 'W', "a delayed robot waits");
+    ticks[start as usize] = 'R';
+    let segs: String = ticks
+        .chunks(100)
+        .enumerate()
+        .map(|(k, c)| {
+            let body: Vec<String> = c.iter().map(|l| format!("{l} 1")).collect();
+            format!("[({},0,0,0,0):({})]", k * 100, body.join(","))
+        })
+        .collect();
+    bad["actualPaths"][agent] = serde_json::Value::String(segs);
+    let tampered = dir.join("tampered.json");
+    std::fs::write(&tampered, bad.to_string()).unwrap();
+    let (code, stdout, err) = mrpp(&[
+        "validate",
+        "--lorr",
+        MAZE,
+        "--plan",
+        tampered.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(1), "{stdout}{err}");
+    assert!(
+        err.contains(&format!(
+            "tick {}: robot {agent} acts while delayed",
+            start + 1
+        )),
+        "{err}"
+    );
+    // Settings refused by name, nothing written.
+    let none = dir.join("none.json");
+    let n = none.to_str().unwrap();
+    for (args, says) in [
+        (
+            vec!["--ticks", "50", "--delays", "bernoulli:p=2,min=1,max=3"],
+            "p=2 is outside [0, 1]",
+        ),
+        (
+            vec!["--ticks", "50", "--executor", "adg"],
+            "--executor adg: expected tpg",
+        ),
+        (
+            vec!["--ticks", "50", "--agent-size", "1.5"],
+            "--agent-size 1.5",
+        ),
+        (
+            vec!["--steps", "50", "--delays", "none"],
+            "--delays applies to lifelong runs in ticks",
+        ),
+    ] {
+        let mut all = vec!["solve", "--lorr", MAZE, "-P", "lifelong-pibt", "-o", n];
+        all.extend(args);
+        let (code, stdout, err) = mrpp(&all);
+        assert_eq!(code, Some(1), "{all:?}: {stdout}{err}");
+        assert!(err.contains(says), "{all:?}: {err}");
+        assert!(!none.exists());
+    }
+    // A problem whose delayConfig the kit would refuse.
+    let src = root().join("data/robot-runners/lorr2026-maze");
+    let copy = dir.join("maze");
+    for sub in ["maps", "agents", "tasks"] {
+        std::fs::create_dir_all(copy.join(sub)).unwrap();
+        for f in std::fs::read_dir(src.join(sub)).unwrap() {
+            let f = f.unwrap().path();
+            std::fs::copy(&f, copy.join(sub).join(f.file_name().unwrap())).unwrap();
+        }
+    }
+    let text = std::fs::read_to_string(src.join("maze-example_40.json"))
+        .unwrap()
+        .replace("\"minDelay\": 5", "\"minDelay\": 0");
+    let problem = copy.join("maze-example_40.json");
+    std::fs::write(&problem, text).unwrap();
+    let (code, stdout, err) = mrpp(&[
+        "solve",
+        "--lorr",
+        problem.to_str().unwrap(),
+        "-P",
+        "lifelong-pibt",
+        "--ticks",
+        "50",
+        "-o",
+        n,
+    ]);
+    assert_eq!(code, Some(1), "{stdout}{err}");
+    assert!(
+        err.contains("maze-example_40.json") && err.contains("delayConfig"),
+        "{err}"
+    );
+    assert!(!none.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -477,6 +477,27 @@ pub fn replay_ticks<'p>(
     let map = problem.map();
     let n = problem.starts().len();
     let ticks = trace.steps();
+    if trace.actions.len() != n {
+        return Err(LifelongViolation::Robots {
+            got: trace.actions.len(),
+            want: n,
+        });
+    }
+    for (agent, a) in trace.actions.iter().enumerate() {
+        if a.len() != ticks as usize {
+            return Err(LifelongViolation::Ragged {
+                agent,
+                got: a.len(),
+                want: ticks as usize,
+            });
+        }
+    }
+    if ticks > problem.steps() {
+        return Err(LifelongViolation::PastHorizon {
+            got: ticks,
+            horizon: problem.steps(),
+        });
+    }
     let counter = record.agent_counter.max(1);
     let mut sim = Simulation::new(problem);
     let mut now: Vec<TickState> = sim.states.iter().map(|&s| TickState::idle(s)).collect();

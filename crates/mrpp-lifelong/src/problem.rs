@@ -258,10 +258,7 @@ impl mrpp_core::Problem for LifelongProblem {
     }
 
     fn validate(&self, trace: &Trace) -> std::result::Result<LifelongMetrics, LifelongViolation> {
-        let sim = match &trace.ticks {
-            None => replay(self, trace, |_| {})?,
-            Some(record) => crate::execution::replay_ticks(self, trace, record, |_| {})?,
-        };
+        let sim = replay(self, trace, |_| {})?;
         let times = &trace.planner_times;
         Ok(LifelongMetrics {
             tasks_finished: sim.finished,
@@ -289,7 +286,8 @@ impl mrpp_core::Problem for LifelongProblem {
 }
 
 /// Replays `trace` from the start under the kit's rules (the validator), calling `after_step`
-/// with the state after each step's task update; returns the final state.
+/// with the state after each step's task update; returns the final state. A trace in ticks
+/// is replayed tick by tick ([`crate::execution::replay_ticks`]).
 ///
 /// # Errors
 /// The first rule the trace breaks.
@@ -299,6 +297,15 @@ pub fn replay<'p>(
     mut after_step: impl FnMut(&Simulation<'p>),
 ) -> std::result::Result<Simulation<'p>, LifelongViolation> {
     let n = problem.starts().len();
+    if trace.actions.len() != n {
+        return Err(LifelongViolation::Robots {
+            got: trace.actions.len(),
+            want: n,
+        });
+    }
+    if let Some(record) = &trace.ticks {
+        return crate::execution::replay_ticks(problem, trace, record, after_step);
+    }
     if trace.actions.len() != n {
         return Err(LifelongViolation::Robots {
             got: trace.actions.len(),
