@@ -215,9 +215,10 @@ pub fn check(
         ));
     }
     let mut found = Vec::new();
+    let mut grid = OverlapGrid::new(map.width(), map.height());
     for tick in 0..exec.ticks {
         let points = replay.at(tick);
-        overlaps(&points, agent_size, tick, &mut found);
+        grid.overlaps(&points, agent_size, tick, &mut found);
     }
     let key = |c: &Collision| (c.tick, c.robots);
     let mut recorded: Vec<_> = exec.collisions.iter().map(key).collect();
@@ -234,34 +235,99 @@ pub fn check(
     Ok(found)
 }
 
-/// Appends the pairs of overlapping footprints among `points` (a grid of buckets, so thousands of
-/// robots cost little).
-pub(crate) fn overlaps(points: &[[f64; 2]], size: f64, tick: u64, out: &mut Vec<Collision>) {
-    use std::collections::HashMap;
-    let mut buckets: HashMap<(i64, i64), Vec<usize>> = HashMap::new();
-    for (i, p) in points.iter().enumerate() {
-        buckets
-            .entry((p[0].floor() as i64, p[1].floor() as i64))
-            .or_default()
-            .push(i);
+/// Buckets of points by the unit cell holding them (clamped to a `width x height` grid), kept
+/// from one call to the next, for [`OverlapGrid::overlaps`].
+#[derive(Debug, Clone)]
+pub(crate) struct OverlapGrid {
+    width: i64,
+    height: i64,
+    /// Per cell, the first point in it (`NONE`: none), then `next` links.
+    head: Vec<u32>,
+    next: Vec<u32>,
+    cell: Vec<u32>,
+}
+
+const NONE: u32 = u32::MAX;
+
+impl OverlapGrid {
+    /// Buckets for a `width x height` map.
+    pub(crate) fn new(width: u32, height: u32) -> Self {
+        OverlapGrid {
+            width: i64::from(width.max(1)),
+            height: i64::from(height.max(1)),
+            head: vec![NONE; (width.max(1) as usize) * (height.max(1) as usize)],
+            next: Vec::new(),
+            cell: Vec::new(),
+        }
     }
-    let eps = 1e-9;
-    for (i, p) in points.iter().enumerate() {
-        let (bx, by) = (p[0].floor() as i64, p[1].floor() as i64);
-        for dx in -1..=1 {
-            for dy in -1..=1 {
-                for &j in buckets.get(&(bx + dx, by + dy)).into_iter().flatten() {
-                    let q = points[j];
-                    if j > i && (p[0] - q[0]).abs() < size - eps && (p[1] - q[1]).abs() < size - eps
-                    {
-                        out.push(Collision {
-                            tick,
-                            robots: [i, j],
-                            at: [*p, q],
-                        });
+
+    fn key(&self, x: i64, y: i64) -> usize {
+        (y.clamp(0, self.height - 1) * self.width + x.clamp(0, self.width - 1)) as usize
+    }
+
+    /// Appends the pairs `(i, j)`, `i < j`, of squares of side `size` (at most 1) centred on
+    /// `points` that overlap with positive area, at `tick`, in robot order. Two points closer
+    /// than one cell on both axes lie in the same or adjacent buckets (clamping a point outside
+    /// the grid to its border keeps that), so only those are compared.
+    pub(crate) fn overlaps(
+        &mut self,
+        points: &[[f64; 2]],
+        size: f64,
+        tick: u64,
+        out: &mut Vec<Collision>,
+    ) {
+        self.next.clear();
+        self.next.resize(points.len(), NONE);
+        self.cell.clear();
+        for (i, p) in points.iter().enumerate() {
+            let k = self.key(p[0].floor() as i64, p[1].floor() as i64);
+            self.next[i] = self.head[k];
+            self.head[k] = i as u32;
+            self.cell.push(k as u32);
+        }
+        let eps = 1e-9;
+        let mut pairs = Vec::new();
+        let close = |p: [f64; 2], q: [f64; 2]| {
+            (p[0] - q[0]).abs() < size - eps && (p[1] - q[1]).abs() < size - eps
+        };
+        for (i, p) in points.iter().enumerate() {
+            // The point's own bucket (later points only), then four of its eight neighbours
+            // (every point): each close pair is met exactly once.
+            let own = self.cell[i] as usize;
+            let mut j = self.head[own];
+            while j != NONE {
+                if (j as usize) > i && close(*p, points[j as usize]) {
+                    pairs.push((i, j as usize));
+                }
+                j = self.next[j as usize];
+            }
+            let (bx, by) = (own as i64 % self.width, own as i64 / self.width);
+            for (dx, dy) in [(1, -1), (1, 0), (1, 1), (0, 1)] {
+                let (x, y) = (bx + dx, by + dy);
+                if x < 0 || y < 0 || x >= self.width || y >= self.height {
+                    continue;
+                }
+                let mut j = self.head[(y * self.width + x) as usize];
+                while j != NONE {
+                    let k = j as usize;
+                    if close(*p, points[k]) {
+                        pairs.push((i.min(k), i.max(k)));
                     }
+                    j = self.next[k];
                 }
             }
+        }
+        // Pairs in robot order, as the old bucket walk found them (each once).
+        pairs.sort_unstable();
+        for (i, j) in pairs {
+            out.push(Collision {
+                tick,
+                robots: [i, j],
+                at: [points[i], points[j]],
+            });
+        }
+        for &k in &self.cell {
+            self.head[k as usize] = NONE;
         }
     }
 }

@@ -225,30 +225,43 @@ impl DelayGenerator {
             *r = r.saturating_sub(1);
         }
         if self.cfg.p_delay > 0.0 {
-            let available: Vec<usize> = (0..self.remaining.len())
-                .filter(|&i| self.remaining[i] == 0)
-                .collect();
-            let chosen: Vec<usize> = match self.cfg.event_model {
-                EventModel::Bernoulli => available
-                    .into_iter()
-                    .filter(|_| self.rng.random_bool(self.cfg.p_delay))
-                    .collect(),
+            match self.cfg.event_model {
+                EventModel::Bernoulli => {
+                    // Robots in index order, one draw each, then the chosen ones' durations
+                    // (no list of the available built; it allocates only when someone is chosen).
+                    let mut chosen = Vec::new();
+                    for i in 0..self.remaining.len() {
+                        if self.remaining[i] == 0 && self.rng.random_bool(self.cfg.p_delay) {
+                            chosen.push(i);
+                        }
+                    }
+                    for i in chosen {
+                        self.start(i);
+                    }
+                }
                 EventModel::Poisson => {
+                    let available: Vec<usize> = (0..self.remaining.len())
+                        .filter(|&i| self.remaining[i] == 0)
+                        .collect();
                     let rate = self.remaining.len() as f64 * self.cfg.p_delay;
                     let count = Poisson::new(rate).map_or(0.0, |d| d.sample(&mut self.rng));
                     let mut pool = available;
                     pool.shuffle(&mut self.rng);
                     pool.truncate((count as usize).min(pool.len()));
-                    pool
+                    for i in pool {
+                        self.start(i);
+                    }
                 }
-            };
-            for i in chosen {
-                let d = self.duration();
-                self.remaining[i] = d;
-                self.intervals[i].push([self.tick, self.tick + u64::from(d)]);
             }
         }
         self.tick += 1;
+    }
+
+    /// Robot `i` starts a delay at the current tick.
+    fn start(&mut self, i: usize) {
+        let d = self.duration();
+        self.remaining[i] = d;
+        self.intervals[i].push([self.tick, self.tick + u64::from(d)]);
     }
 
     /// Whether robot `i` is held during the tick just drawn.

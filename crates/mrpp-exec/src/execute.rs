@@ -33,7 +33,7 @@ use mrpp_mapf::GridMap;
 use serde::Serialize;
 
 use crate::adg::Adg;
-use crate::check::overlaps;
+use crate::check::OverlapGrid;
 use crate::delays::{DelayConfig, DelayGenerator};
 
 /// Who decides when a robot starts its next move (module doc).
@@ -149,12 +149,24 @@ pub fn execute(map: &GridMap, plan: &Plan, cfg: &ExecConfig) -> Execution {
     } else {
         Vec::new()
     };
-    // The ring each (robot, move) belongs to, if any.
-    let ring: std::collections::HashMap<(usize, usize), usize> = rotations
+    // The ring each (robot, move) belongs to, if any: `ring_of[i][k]`.
+    let mut ring_of: Vec<Vec<usize>> = adg
+        .moves
         .iter()
-        .enumerate()
-        .flat_map(|(g, members)| members.iter().map(move |&m| (m, g)))
+        .map(|m| vec![usize::MAX; m.len()])
         .collect();
+    for (g, members) in rotations.iter().enumerate() {
+        for &(i, k) in members {
+            ring_of[i][k] = g;
+        }
+    }
+    let ring = |i: usize, k: usize| ring_of[i].get(k).copied().filter(|&g| g != usize::MAX);
+    let mut grid = OverlapGrid::new(map.width(), map.height());
+    let (mut busy, mut finished) = (vec![false; n], vec![0usize; n]);
+    let centres: Vec<[f64; 2]> = (0..map.graph().num_vertices() as VertexId)
+        .map(|v| centre(map, v))
+        .collect();
+    let mut points = Vec::with_capacity(n);
     let c = u64::from(cfg.ticks_per_move.max(1));
     let mut delays = DelayGenerator::new(cfg.delays.clone(), n, cfg.seed);
     // Per robot: moves done, the move in progress and its progress.
@@ -189,7 +201,7 @@ pub fn execute(map: &GridMap, plan: &Plan, cfg: &ExecConfig) -> Execution {
         let mut moved = false;
         let mut held_any = false;
         // A robot progresses once a tick: one that finishes a move now starts the next one later.
-        let mut busy = vec![false; n];
+        busy.iter_mut().for_each(|b| *b = false);
         // Rings under way pause while any member is held.
         let paused: Vec<bool> = rotations
             .iter()
@@ -207,7 +219,7 @@ pub fn execute(map: &GridMap, plan: &Plan, cfg: &ExecConfig) -> Execution {
                 lost += 1;
                 continue;
             }
-            if ring.get(&(i, done[i])).is_some_and(|&g| paused[g]) {
+            if ring(i, done[i]).is_some_and(|g| paused[g]) {
                 held_any = true;
                 waits += 1;
                 continue;
@@ -223,7 +235,7 @@ pub fn execute(map: &GridMap, plan: &Plan, cfg: &ExecConfig) -> Execution {
             }
         }
         // Starts, judged on the moves finished before them.
-        let finished = done.clone();
+        finished.clone_from(&done);
         let ready = |j: usize, m: usize| {
             finished[j] == m && progress[j].is_none() && !busy[j] && !delays.delayed(j)
         };
@@ -249,8 +261,8 @@ pub fn execute(map: &GridMap, plan: &Plan, cfg: &ExecConfig) -> Execution {
                 continue;
             }
             let k = done[i];
-            let go = match (cfg.executor, ring.get(&(i, k))) {
-                (ExecutorKind::Adg, Some(&g)) => starting[g],
+            let go = match (cfg.executor, ring(i, k)) {
+                (ExecutorKind::Adg, Some(g)) => starting[g],
                 (ExecutorKind::Adg, None) => adg.deps[i][k].iter().all(|&(j, m)| finished[j] > m),
                 (ExecutorKind::Naive, _) => tick >= u64::from(adg.moves[i][k].step) * c,
             };
@@ -270,8 +282,8 @@ pub fn execute(map: &GridMap, plan: &Plan, cfg: &ExecConfig) -> Execution {
             }
         }
         tick += 1;
-        let points = positions(map, &adg, &starts, &done, &progress, c);
-        overlaps(&points, cfg.agent_size, tick - 1, &mut collisions);
+        positions(&centres, &adg, &starts, &done, &progress, c, &mut points);
+        grid.overlaps(&points, cfg.agent_size, tick - 1, &mut collisions);
         if !moved && !held_any && cfg.executor == ExecutorKind::Adg {
             break Ending::Deadlock { tick: tick - 1 };
         }
@@ -306,28 +318,28 @@ pub fn execute(map: &GridMap, plan: &Plan, cfg: &ExecConfig) -> Execution {
     }
 }
 
-/// Every robot's point at the end of a tick.
+/// Every robot's point at the end of a tick, into `out` (`centres` of the map's vertices).
 fn positions(
-    map: &GridMap,
+    centres: &[[f64; 2]],
     adg: &Adg,
     starts: &[VertexId],
     done: &[usize],
     progress: &[Option<u64>],
     c: u64,
-) -> Vec<[f64; 2]> {
-    (0..done.len())
-        .map(|i| {
-            let ms = &adg.moves[i];
-            match progress[i] {
-                Some(p) => {
-                    let m = ms[done[i]];
-                    let (a, b) = (centre(map, m.from), centre(map, m.to));
-                    let f = p as f64 / c as f64;
-                    [a[0] + (b[0] - a[0]) * f, a[1] + (b[1] - a[1]) * f]
-                }
-                None if done[i] == 0 => centre(map, starts[i]),
-                None => centre(map, ms[done[i] - 1].to),
+    out: &mut Vec<[f64; 2]>,
+) {
+    out.clear();
+    out.extend((0..done.len()).map(|i| {
+        let ms = &adg.moves[i];
+        match progress[i] {
+            Some(p) => {
+                let m = ms[done[i]];
+                let (a, b) = (centres[m.from as usize], centres[m.to as usize]);
+                let f = p as f64 / c as f64;
+                [a[0] + (b[0] - a[0]) * f, a[1] + (b[1] - a[1]) * f]
             }
-        })
-        .collect()
+            None if done[i] == 0 => centres[starts[i] as usize],
+            None => centres[ms[done[i] - 1].to as usize],
+        }
+    }));
 }
