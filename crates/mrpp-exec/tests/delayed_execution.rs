@@ -45,9 +45,9 @@ fn adg_never_collides_or_deadlocks_and_naive_does_collide() {
         eprintln!("{map}: {} rings executed jointly", rings.len());
         for spec in models {
             for counter in [1, 3] {
-                for seed in 0..120u64 {
+                for seed in 0..1000u64 {
                     for executor in [ExecutorKind::Adg, ExecutorKind::Naive] {
-                        if executor == ExecutorKind::Naive && seed >= 30 {
+                        if executor == ExecutorKind::Naive && seed >= 100 {
                             continue;
                         }
                         let cfg = ExecConfig {
