@@ -27,7 +27,10 @@ use crate::sweep::PeerSpec;
 use mrpp_core::error::{Error, Result};
 use mrpp_core::seeds::derive_seed;
 use mrpp_core::{Ctx, Deadline, Problem, Unsolved, solve};
+use mrpp_exec::DelayConfig;
 use mrpp_lifelong::PLANNERS;
+use mrpp_lifelong::execution::ExecutionModel;
+use mrpp_lifelong::executor::ExecutorKind;
 use mrpp_lifelong::lorr_output::from_json;
 use mrpp_lifelong::problem::replay;
 use mrpp_lifelong::runner::PIBT_ENTRY;
@@ -55,6 +58,20 @@ pub struct LorrConfig {
     /// Runs (seeds) per configuration.
     pub runs: usize,
     pub peer: Option<PeerSpec>,
+    /// Run in ticks under the League's 2026 execution model (`steps` then counts ticks and
+    /// `step_time` is each planner call's time); `None`: one action per step.
+    pub ticks: Option<TicksConfig>,
+}
+
+/// The 2026 execution model's settings of a sweep in ticks: each problem's own `agentCounter`,
+/// `agentSize` and `delayConfig`, with these.
+#[derive(Debug, Clone)]
+pub struct TicksConfig {
+    pub executor: ExecutorKind,
+    /// Ticks between planner calls.
+    pub plan_every: u32,
+    /// Delays for mrpp's runs instead of each problem's `delayConfig` (a peer reads the file).
+    pub delays: Option<DelayConfig>,
 }
 
 /// One run of the sweep.
@@ -144,8 +161,17 @@ impl LorrSweep {
         }
         let mut problems = Vec::new();
         for path in &cfg.problems {
-            let p = LifelongProblem::load(path, cfg.model, cfg.steps, cfg.step_time)?
+            let mut p = LifelongProblem::load(path, cfg.model, cfg.steps, cfg.step_time)?
                 .with_preprocess_time(cfg.preprocess_time);
+            if let Some(t) = &cfg.ticks {
+                let mut m = ExecutionModel::of_problem(p.files())?;
+                m.executor = t.executor;
+                m.plan_every = t.plan_every;
+                if let Some(d) = &t.delays {
+                    m.delays = d.clone();
+                }
+                p = p.with_execution(m);
+            }
             let name = path.file_stem().map_or_else(
                 || path.display().to_string(),
                 |s| s.to_string_lossy().into(),
@@ -212,7 +238,11 @@ impl LorrSweep {
 
     /// The overall limit of one run (module doc).
     fn run_limit(&self) -> Duration {
-        self.cfg.step_time * self.cfg.steps * 2 + self.cfg.preprocess_time + Duration::from_secs(60)
+        let calls = match &self.cfg.ticks {
+            None => self.cfg.steps,
+            Some(t) => self.cfg.steps / t.plan_every.max(1) + 2,
+        };
+        self.cfg.step_time * calls * 2 + self.cfg.preprocess_time + Duration::from_secs(60)
     }
 
     /// Fills `row` from a trace the validator accepts, or says why not.
@@ -577,7 +607,7 @@ fn page(sweep: &LorrSweep, rows: &[&LorrRow], m: &Manifest) -> String {
     format!(
         "# League of Robot Runners problems, lifelong\n\n\
          `mrpp {}` | command: `mrpp {}` | seed {} | {} jobs on {} threads, {:.0} s\n\n\
-         {} steps, {} s per step, {} s preprocessing, {}. Every run below was replayed by mrpp's \
+         {}, {} s preprocessing, {}. Every run below was replayed by mrpp's \
          lifelong validator (the start kit's rules); tasks finished are its count. Planner times \
          are each run's own record (machine-dependent).\n\n{}\n{}\n\
          Tasks finished over the steps: `throughput.svg`; every run: `results.csv`.\n",
@@ -587,8 +617,26 @@ fn page(sweep: &LorrSweep, rows: &[&LorrRow], m: &Manifest) -> String {
         m.jobs,
         m.threads,
         m.wall_seconds,
-        sweep.cfg.steps,
-        sweep.cfg.step_time.as_secs_f64(),
+        match &sweep.cfg.ticks {
+            None => format!(
+                "{} steps, {} s per step",
+                sweep.cfg.steps,
+                sweep.cfg.step_time.as_secs_f64()
+            ),
+            Some(t) => format!(
+                "{} ticks under the League's 2026 execution model (each problem's agentCounter, agentSize and {}; executor {}; a plan every {} ticks, {} s each)",
+                sweep.cfg.steps,
+                t.delays
+                    .as_ref()
+                    .map_or("delayConfig".to_string(), |d| format!(
+                        "delays {}",
+                        d.spec()
+                    )),
+                t.executor.name(),
+                t.plan_every,
+                sweep.cfg.step_time.as_secs_f64()
+            ),
+        },
         sweep.cfg.preprocess_time.as_secs_f64(),
         sweep.cfg.model.name(),
         table(rows),

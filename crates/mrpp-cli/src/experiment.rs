@@ -85,6 +85,20 @@ pub struct LorrArgs {
     /// Horizon in steps.
     #[arg(long, default_value_t = 1000, allow_negative_numbers = true, value_parser = crate::output::parse_count)]
     steps: usize,
+    /// Run in ticks under the League's 2026 execution model for N ticks instead of --steps
+    /// (each problem's agentCounter, agentSize and delayConfig; a peer's {steps} is N).
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::output::parse_count)]
+    ticks: Option<usize>,
+    /// With --ticks: tpg (the League's default executor) or naive.
+    #[arg(long, default_value = "tpg", requires = "ticks")]
+    executor: String,
+    /// With --ticks: ticks between planner calls.
+    #[arg(long, default_value_t = 10, allow_negative_numbers = true, value_parser = crate::output::parse_count, requires = "ticks")]
+    plan_every: usize,
+    /// With --ticks: delays for mrpp's runs instead of each problem's delayConfig, e.g.
+    /// `bernoulli:p=0.01,min=1,max=4` (a peer reads the problem file).
+    #[arg(long, requires = "ticks")]
+    delays: Option<String>,
     /// Planning time per step, in seconds.
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     step_time_limit: f64,
@@ -352,10 +366,38 @@ pub fn run(cmd: Experiment, merge: Option<Mode>) -> Result<u8, Fail> {
                     a.action_model
                 ))
             })?;
-            let steps = u32::try_from(a.steps)
+            let (flag, horizon) = match a.ticks {
+                Some(t) => ("--ticks", t),
+                None => ("--steps", a.steps),
+            };
+            let steps = u32::try_from(horizon)
                 .ok()
                 .filter(|&s| (1..=10_000_000).contains(&s))
-                .ok_or_else(|| Fail(format!("--steps {}: expected 1 to 10000000", a.steps)))?;
+                .ok_or_else(|| Fail(format!("{flag} {horizon}: expected 1 to 10000000")))?;
+            let ticks = match a.ticks {
+                None => None,
+                Some(_) => Some(mrpp_bench::lorr::TicksConfig {
+                    executor: mrpp_lifelong::executor::ExecutorKind::parse(&a.executor)
+                        .ok_or_else(|| {
+                            Fail(format!("--executor {}: expected tpg or naive", a.executor))
+                        })?,
+                    plan_every: u32::try_from(a.plan_every)
+                        .ok()
+                        .filter(|k| (1..=100_000).contains(k))
+                        .ok_or_else(|| {
+                            Fail(format!(
+                                "--plan-every {}: expected 1 to 100000",
+                                a.plan_every
+                            ))
+                        })?,
+                    delays: a
+                        .delays
+                        .as_deref()
+                        .map(mrpp_exec::DelayConfig::parse)
+                        .transpose()
+                        .map_err(Fail)?,
+                }),
+            };
             let cfg = LorrConfig {
                 seed: a.seed,
                 problems: a.problems.clone(),
@@ -368,6 +410,7 @@ pub fn run(cmd: Experiment, merge: Option<Mode>) -> Result<u8, Fail> {
                 guidance: a.guidance.clone(),
                 runs: a.runs,
                 peer: a.peer.clone(),
+                ticks,
             };
             let mode = merge.unwrap_or(Mode::run(a.shard, a.out.clone()));
             drive_on(&LorrSweep::new(cfg)?, &mode, a.seed, "runs", a.jobs)
