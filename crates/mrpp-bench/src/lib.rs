@@ -6,6 +6,7 @@
 //!
 //! Nothing here prints or writes files: the binary shows progress and writes what these return.
 
+pub mod execution;
 pub mod harness;
 pub mod lorr;
 pub mod papers;

@@ -9,6 +9,7 @@ use std::time::Duration;
 use clap::{Subcommand, ValueEnum};
 
 use mrpp_bench::Shard;
+use mrpp_bench::execution::{ExecutionConfig, ExecutionSweep, Instance};
 use mrpp_bench::lorr::{LorrConfig, LorrSweep};
 use mrpp_bench::papers::ga_formation::{FormationConfig, GaFormation};
 use mrpp_bench::papers::gp_trees::{GpExperimentConfig, GpTable3, GpTable4, GpTable5};
@@ -75,6 +76,65 @@ pub enum Experiment {
         after_help = "Examples (from the repository's root):\n  mrpp experiment lorr data/robot-runners/lorr2026-maze/maze-example_40.json --steps 500 --schedulers greedy,hungarian -o out/lorr\n  mrpp experiment lorr data/robot-runners/lorr2026-maze/maze-example_40.json --steps 300 --planners lifelong-pibt,lifelong-lns --schedulers hungarian --jobs 1 -o out/lorr-lns\n  mrpp experiment lorr data/robot-runners/lorr2023-warehouse_small/warehouse_small_10.json --steps 200 --runs 3 --jobs 1 -o out/lorr-small\n\nA peer, e.g. the League's start kit built by hand: --peer 'kit=cd /path/Start-Kit && ./build/lifelong -i {problem} -o {out} --simulationTime {steps} --planTimeLimit {step_ms} --preprocessTimeLimit {preprocess_ms}' (placeholders: {problem} {steps} {step_ms} {preprocess_ms} {out}, the League's output JSON it must write). Runs go in parallel on the machine's cores; --jobs 1 runs them one at a time (each run is timed per step)."
     )]
     Lorr(LorrArgs),
+    /// One-shot grid plans executed on robots that are late: each instance x planner x delay
+    /// probability x executor (the action dependency graph, adg, or the plan's timing, naive) x
+    /// run; collisions, deadlocks, executed makespan and sum of costs over the plan's.
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp experiment execution --runs 20 -o out/execution\n  mrpp experiment execution --instance data/movingai/random-32-32-20.map:data/movingai/random-32-32-20-random-1.scen:100 --planners lacam,lacam*,eecbs --delays 0,0.01,0.05 -o out/execution-random"
+    )]
+    Execution(ExecutionArgs),
+}
+
+#[derive(clap::Args)]
+pub struct ExecutionArgs {
+    /// A grid instance `MAP:SCEN:AGENTS` (repeatable). Default: three bundled MovingAI
+    /// instances (random-32-32-20 with 60 agents, room-32-32-4 with 40, warehouse-10-20-10-2-1
+    /// with 100; random-1 scenarios), read from the current folder's data/movingai.
+    #[arg(long = "instance")]
+    instances: Vec<String>,
+    /// Grid planners (comma-separated registry names; lacam* = LaCAM*).
+    #[arg(long, value_delimiter = ',', default_value = "lacam,eecbs")]
+    planners: Vec<String>,
+    /// Bernoulli delay probabilities per robot per tick (comma-separated).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_negative_numbers = true,
+        default_value = "0,0.005,0.01,0.02,0.05"
+    )]
+    delays: Vec<f64>,
+    /// Shortest delay, ticks.
+    #[arg(long, default_value_t = 1, allow_negative_numbers = true, value_parser = crate::output::parse_count)]
+    min_delay: usize,
+    /// Longest delay, ticks.
+    #[arg(long, default_value_t = 10, allow_negative_numbers = true, value_parser = crate::output::parse_count)]
+    max_delay: usize,
+    /// Executors (comma-separated): adg, naive.
+    #[arg(long, value_delimiter = ',', default_value = "naive,adg")]
+    executors: Vec<String>,
+    /// Ticks per move (the League's agentCounter).
+    #[arg(long, default_value_t = 3, allow_negative_numbers = true, value_parser = crate::output::parse_count)]
+    ticks_per_move: usize,
+    /// Side of a robot's square, cells, in (0, 1].
+    #[arg(long, default_value_t = 0.5, allow_negative_numbers = true)]
+    agent_size: f64,
+    /// Runs (delay seeds) per point.
+    #[arg(long, default_value_t = 20, allow_negative_numbers = true, value_parser = crate::output::parse_count)]
+    runs: usize,
+    /// Planning time per plan, seconds.
+    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
+    time_limit: f64,
+    #[arg(short = 's', long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
+    seed: u64,
+    /// Output directory (results.csv, execution.md, execution.svg, records.csv, manifest.json).
+    #[arg(short = 'o', long, default_value = "out/execution")]
+    out: PathBuf,
+    /// Run only shard i of N (`i/N`); `mrpp bench merge` joins the parts.
+    #[arg(long)]
+    shard: Option<Shard>,
+    /// Runs at a time (default: one per core).
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::output::parse_count)]
+    jobs: Option<usize>,
 }
 
 #[derive(clap::Args)]
@@ -342,6 +402,81 @@ pub fn run(cmd: Experiment, merge: Option<Mode>) -> Result<u8, Fail> {
             )
         }
         Experiment::GaFormation(a) => ga_formation(&a, merge),
+        Experiment::Execution(a) => {
+            let instances = if a.instances.is_empty() {
+                [
+                    ("random-32-32-20", 60),
+                    ("room-32-32-4", 40),
+                    ("warehouse-10-20-10-2-1", 100),
+                ]
+                .into_iter()
+                .map(|(m, n)| Instance {
+                    map: PathBuf::from(format!("data/movingai/{m}.map")),
+                    scen: PathBuf::from(format!("data/movingai/{m}-random-1.scen")),
+                    agents: n,
+                })
+                .collect()
+            } else {
+                a.instances
+                    .iter()
+                    .map(|spec| {
+                        let parts: Vec<&str> = spec.rsplitn(3, ':').collect();
+                        match parts.as_slice() {
+                            [n, scen, map] => n
+                                .parse::<usize>()
+                                .ok()
+                                .filter(|&n| n > 0)
+                                .map(|agents| Instance {
+                                    map: PathBuf::from(map),
+                                    scen: PathBuf::from(scen),
+                                    agents,
+                                })
+                                .ok_or_else(|| {
+                                    Fail(format!(
+                                        "--instance {spec}: AGENTS must be a whole number above 0"
+                                    ))
+                                }),
+                            _ => Err(Fail(format!("--instance {spec}: expected MAP:SCEN:AGENTS"))),
+                        }
+                    })
+                    .collect::<Result<Vec<_>, Fail>>()?
+            };
+            let executors = a
+                .executors
+                .iter()
+                .map(|e| {
+                    mrpp_exec::ExecutorKind::parse(e)
+                        .ok_or_else(|| Fail(format!("--executors: {e} is not adg or naive")))
+                })
+                .collect::<Result<Vec<_>, Fail>>()?;
+            let ticks = |v: usize, flag: &str| {
+                u32::try_from(v)
+                    .ok()
+                    .filter(|t| (1..=1000).contains(t))
+                    .ok_or_else(|| Fail(format!("--{flag} {v}: expected 1 to 1000 ticks")))
+            };
+            if !(a.agent_size > 0.0 && a.agent_size <= 1.0) {
+                return Err(Fail(format!(
+                    "--agent-size {}: expected more than 0 and at most 1 cell",
+                    a.agent_size
+                )));
+            }
+            let cfg = ExecutionConfig {
+                seed: a.seed,
+                instances,
+                planners: a.planners.clone(),
+                delays: a.delays.clone(),
+                min_delay: ticks(a.min_delay, "min-delay")?,
+                max_delay: ticks(a.max_delay, "max-delay")?,
+                executors,
+                ticks_per_move: ticks(a.ticks_per_move, "ticks-per-move")?,
+                agent_size: a.agent_size,
+                runs: a.runs,
+                time_limit: seconds("time-limit", a.time_limit)?,
+            };
+            let mode = merge.unwrap_or(Mode::run(a.shard, a.out.clone()));
+            drive_on(&ExecutionSweep::new(cfg)?, &mode, a.seed, "runs", a.jobs)
+        }
         Experiment::Hbmo(a) => {
             let cfg = HbmoConfig {
                 seed: a.seed,

@@ -170,3 +170,66 @@ fn a_plan_runs_late_safely_with_the_adg_and_collides_naively() {
     assert!(!bad.exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn the_execution_experiment_sweeps_delays_and_executors() {
+    let dir = std::env::temp_dir().join(format!("mrpp-execution-exp-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = dir.join("exp");
+    let (code, err) = mrpp(&[
+        "experiment",
+        "execution",
+        "--instance",
+        "data/movingai/random-32-32-20.map:data/movingai/random-32-32-20-random-1.scen:40",
+        "--planners",
+        "lacam,pibt",
+        "--delays",
+        "0,0.05",
+        "--runs",
+        "3",
+        "--jobs",
+        "1",
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    for f in [
+        "results.csv",
+        "execution.md",
+        "execution.svg",
+        "manifest.json",
+    ] {
+        assert!(out.join(f).exists(), "{f}");
+    }
+    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    let rows: Vec<Vec<&str>> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').collect())
+        .collect();
+    // planner, p, executor, status, collisions: columns 2, 3, 4, 7, 8.
+    assert_eq!(rows.len(), 2 * 2 * 2 * 3);
+    for r in &rows {
+        assert_eq!(r[7], "finished", "{r:?}");
+        if r[4] == "adg" || r[3] == "0" {
+            assert_eq!(r[8], "0", "adg, or no delay at all, never collides: {r:?}");
+        }
+    }
+    assert!(
+        rows.iter()
+            .any(|r| r[4] == "naive" && r[3] == "0.05" && r[8] != "0"),
+        "the naive executor collides under delays (so the test can fail)"
+    );
+    let (code, err) = mrpp(&[
+        "experiment",
+        "execution",
+        "--executors",
+        "adg,fast",
+        "-o",
+        dir.join("bad").to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("fast is not adg or naive"), "{err}");
+    assert!(!dir.join("bad").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
