@@ -48,6 +48,9 @@ pub struct ExecutionConfig {
     pub min_delay: u32,
     pub max_delay: u32,
     pub executors: Vec<ExecutorKind>,
+    /// Robustness of the executed plans: each plan re-timed to be k-robust
+    /// (`mrpp_exec::robust`; 0 = as planned).
+    pub robust: Vec<u32>,
     /// Ticks per move (`agentCounter`).
     pub ticks_per_move: u32,
     /// Side of a robot's square (`agentSize`), cells.
@@ -65,6 +68,7 @@ pub struct ExecJob {
     pub planner: usize,
     pub delay: usize,
     pub executor: usize,
+    pub robust: usize,
     pub run: usize,
 }
 
@@ -76,6 +80,8 @@ pub struct ExecRow {
     pub planner: String,
     pub p_delay: f64,
     pub executor: String,
+    /// The plan was re-timed to be k-robust (0: as planned).
+    pub k: u32,
     pub run: usize,
     pub seed: u64,
     /// `finished`, `deadlock`, `tick_limit`, or `unsolved` (the planner found no plan).
@@ -111,9 +117,13 @@ impl ExecutionSweep {
         if cfg.runs == 0 {
             return Err(Error::Param("--runs must be at least 1".into()));
         }
-        if cfg.executors.is_empty() || cfg.planners.is_empty() || cfg.delays.is_empty() {
+        if cfg.executors.is_empty()
+            || cfg.planners.is_empty()
+            || cfg.delays.is_empty()
+            || cfg.robust.is_empty()
+        {
             return Err(Error::Param(
-                "give at least one planner, delay probability and executor".into(),
+                "give at least one planner, delay probability, robustness and executor".into(),
             ));
         }
         for &p in &cfg.delays {
@@ -125,6 +135,11 @@ impl ExecutionSweep {
         }
         for name in &cfg.planners {
             planner(name)?;
+        }
+        if let Some(k) = cfg.robust.iter().find(|&&k| k > 1000) {
+            return Err(Error::Param(format!(
+                "--robust {k}: expected 0 to 1000 steps"
+            )));
         }
         let mut problems = Vec::new();
         for inst in &cfg.instances {
@@ -146,15 +161,18 @@ impl ExecutionSweep {
         for instance in 0..problems.len() {
             for planner in 0..cfg.planners.len() {
                 for delay in 0..cfg.delays.len() {
-                    for executor in 0..cfg.executors.len() {
-                        for run in 0..cfg.runs {
-                            jobs.push(ExecJob {
-                                instance,
-                                planner,
-                                delay,
-                                executor,
-                                run,
-                            });
+                    for robust in 0..cfg.robust.len() {
+                        for executor in 0..cfg.executors.len() {
+                            for run in 0..cfg.runs {
+                                jobs.push(ExecJob {
+                                    instance,
+                                    planner,
+                                    delay,
+                                    executor,
+                                    robust,
+                                    run,
+                                });
+                            }
                         }
                     }
                 }
@@ -195,6 +213,25 @@ impl ExecutionSweep {
     }
 }
 
+/// A plan's makespan and sum of costs in ticks on its own timing: each robot done at the tick
+/// after its last move (as `mrpp_exec::execute` counts them).
+fn planned_ticks(plan: &Plan, ticks_per_move: u32) -> (u64, u64) {
+    let c = u64::from(ticks_per_move.max(1));
+    let finish: Vec<u64> = plan
+        .paths
+        .iter()
+        .map(|p| {
+            p.windows(2)
+                .rposition(|w| w[0] != w[1])
+                .map_or(0, |t| (t as u64 + 1) * c)
+        })
+        .collect();
+    (
+        finish.iter().copied().max().unwrap_or(0),
+        finish.iter().sum(),
+    )
+}
+
 /// The planner a spec names (`lacam*` = LaCAM*).
 fn planner(spec: &str) -> Result<Box<dyn mrpp_core::Planner<MapfProblem>>> {
     let (name, params): (&str, Vec<(String, String)>) = match spec {
@@ -226,10 +263,11 @@ impl Sweep for ExecutionSweep {
     }
     fn key(&self, j: &ExecJob) -> String {
         format!(
-            "{}/{}/p{}/{}/{}",
+            "{}/{}/p{}/k{}/{}/{}",
             self.problems[j.instance].0,
             self.cfg.planners[j.planner],
             self.cfg.delays[j.delay],
+            self.cfg.robust[j.robust],
             self.cfg.executors[j.executor].name(),
             j.run
         )
@@ -249,6 +287,7 @@ impl Sweep for ExecutionSweep {
             planner: self.cfg.planners[j.planner].clone(),
             p_delay: p,
             executor: executor.name().into(),
+            k: self.cfg.robust[j.robust],
             run: j.run,
             seed,
             status: "unsolved".into(),
@@ -264,6 +303,20 @@ impl Sweep for ExecutionSweep {
         let (map, plan) = match self.plan(j.instance, j.planner)? {
             Ok(made) => made,
             Err(_) => return Ok(row),
+        };
+        let (planned_makespan, planned_soc) = planned_ticks(plan, self.cfg.ticks_per_move);
+        let robust;
+        let plan = if row.k == 0 {
+            plan
+        } else {
+            robust = mrpp_exec::robust::k_robust(plan, row.k);
+            mrpp_core::Problem::validate(problem, &robust).map_err(|v| {
+                Error::Internal(format!(
+                    "{}: the re-timed plan is invalid: {v}",
+                    self.key(j)
+                ))
+            })?;
+            &robust
         };
         let cfg = ExecConfig {
             executor,
@@ -294,10 +347,12 @@ impl Sweep for ExecutionSweep {
         .into();
         let m = run.metrics;
         row.collisions = m.collisions;
-        row.planned_makespan = m.planned_makespan;
-        row.planned_sum_of_costs = m.planned_sum_of_costs;
-        row.makespan_ratio = m.makespan_ratio;
-        row.sum_of_costs_ratio = m.sum_of_costs_ratio;
+        // Over the plan as made, so that a re-timed plan's own extra length counts.
+        let ratio = |a: u64, b: u64| if b == 0 { 1.0 } else { a as f64 / b as f64 };
+        row.planned_makespan = planned_makespan;
+        row.planned_sum_of_costs = planned_soc;
+        row.makespan_ratio = ratio(m.makespan, planned_makespan);
+        row.sum_of_costs_ratio = ratio(m.sum_of_costs, planned_soc);
         row.ticks_lost_to_delays = m.ticks_lost_to_delays;
         row.waits_added = m.waits_added;
         Ok(row)
@@ -348,6 +403,7 @@ fn results_csv(rows: &[&ExecRow]) -> Result<String> {
         "planner",
         "p_delay",
         "executor",
+        "k",
         "run",
         "seed",
         "status",
@@ -368,6 +424,7 @@ fn results_csv(rows: &[&ExecRow]) -> Result<String> {
             r.planner.clone(),
             r.p_delay.to_string(),
             r.executor.clone(),
+            r.k.to_string(),
             r.run.to_string(),
             r.seed.to_string(),
             r.status.clone(),
@@ -394,6 +451,7 @@ fn groups<'a>(rows: &[&'a ExecRow]) -> Vec<Vec<&'a ExecRow>> {
             f.instance == r.instance
                 && f.planner == r.planner
                 && f.executor == r.executor
+                && f.k == r.k
                 && f.p_delay == r.p_delay
         }) {
             Some(g) => g.push(r),
@@ -412,7 +470,7 @@ fn mean(xs: impl Iterator<Item = f64>) -> f64 {
 /// collisions, mean executed / planned makespan and sum of costs (finished runs).
 fn table(rows: &[&ExecRow]) -> String {
     let mut out = String::from(
-        "| instance | planner | executor | p | runs | collided | deadlocks | collisions (mean) | makespan / planned | sum of costs / planned |\n|---|---|---|---|---|---|---|---|---|---|\n",
+        "| instance | planner | k-robust | executor | p | runs | collided | deadlocks | collisions (mean) | makespan / planned | sum of costs / planned |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for g in groups(rows) {
         let f = g[0];
@@ -431,9 +489,10 @@ fn table(rows: &[&ExecRow]) -> String {
         let deadlocks = g.iter().filter(|r| r.status == "deadlock").count();
         let done: Vec<&&ExecRow> = g.iter().filter(|r| r.status == "finished").collect();
         out.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {} ({:.0}%) | {} | {:.1} | {:.3} | {:.3} |\n",
+            "| {} | {} | {} | {} | {} | {} | {} ({:.0}%) | {} | {:.1} | {:.3} | {:.3} |\n",
             f.instance,
             f.planner,
+            f.k,
             f.executor,
             f.p_delay,
             g.len(),
@@ -473,12 +532,23 @@ fn page(sweep: &ExecutionSweep, rows: &[&ExecRow], m: &Manifest) -> String {
     )
 }
 
+/// A figure line's name: planner, robustness (when re-timed), executor.
+fn name(r: &ExecRow) -> String {
+    if r.k == 0 {
+        format!("{} {}", r.planner, r.executor)
+    } else {
+        format!("{} {}-robust {}", r.planner, r.k, r.executor)
+    }
+}
+
 /// Three panels over the delay probability: runs with a collision (%), executed makespan over
-/// planned, executed sum of costs over planned; a line per (planner, executor), instances pooled.
+/// planned, executed sum of costs over planned; a line per (planner, robustness, executor),
+/// instances pooled. Ratios are over the plan as made (before re-timing), so a k-robust plan's
+/// own extra length counts.
 fn figure(rows: &[&ExecRow]) -> Result<String> {
     let mut names: Vec<String> = Vec::new();
     for r in rows {
-        let n = format!("{} {}", r.planner, r.executor);
+        let n = name(r);
         if r.status != "unsolved" && !names.contains(&n) {
             names.push(n);
         }
@@ -497,11 +567,7 @@ fn figure(rows: &[&ExecRow]) -> Result<String> {
                         let g: Vec<&ExecRow> = rows
                             .iter()
                             .copied()
-                            .filter(|r| {
-                                r.p_delay == p
-                                    && r.status != "unsolved"
-                                    && format!("{} {}", r.planner, r.executor) == *n
-                            })
+                            .filter(|r| r.p_delay == p && r.status != "unsolved" && name(r) == *n)
                             .collect();
                         let v = value(&g);
                         (!g.is_empty() && v.is_finite()).then_some((p, v))

@@ -112,6 +112,10 @@ pub struct ExecutionArgs {
     /// Executors (comma-separated): adg, naive.
     #[arg(long, value_delimiter = ',', default_value = "naive,adg")]
     executors: Vec<String>,
+    /// Plans re-timed to be k-robust before execution (comma-separated k; 0 = as planned): no
+    /// robot enters a cell another left fewer than k steps earlier (Atzmon et al., JAIR 2020).
+    #[arg(long, value_delimiter = ',', default_value = "0,2")]
+    robust: Vec<u32>,
     /// Ticks per move (the League's agentCounter).
     #[arg(long, default_value_t = 3, allow_negative_numbers = true, value_parser = crate::output::parse_count)]
     ticks_per_move: usize,
@@ -469,6 +473,7 @@ pub fn run(cmd: Experiment, merge: Option<Mode>) -> Result<u8, Fail> {
                 min_delay: ticks(a.min_delay, "min-delay")?,
                 max_delay: ticks(a.max_delay, "max-delay")?,
                 executors,
+                robust: a.robust.clone(),
                 ticks_per_move: ticks(a.ticks_per_move, "ticks-per-move")?,
                 agent_size: a.agent_size,
                 runs: a.runs,

@@ -207,18 +207,31 @@ fn the_execution_experiment_sweeps_delays_and_executors() {
         .skip(1)
         .map(|l| l.split(',').collect())
         .collect();
-    // planner, p, executor, status, collisions: columns 2, 3, 4, 7, 8.
-    assert_eq!(rows.len(), 2 * 2 * 2 * 3);
+    // planner, p, executor, k, status, collisions: columns 2, 3, 4, 5, 8, 9.
+    assert_eq!(
+        rows.len(),
+        2 * 2 * 2 * 2 * 3,
+        "planners x p x k x executors x runs"
+    );
     for r in &rows {
-        assert_eq!(r[7], "finished", "{r:?}");
+        assert_eq!(r[8], "finished", "{r:?}");
         if r[4] == "adg" || r[3] == "0" {
-            assert_eq!(r[8], "0", "adg, or no delay at all, never collides: {r:?}");
+            assert_eq!(r[9], "0", "adg, or no delay at all, never collides: {r:?}");
         }
     }
-    assert!(
+    let collisions = |k: &str| -> usize {
         rows.iter()
-            .any(|r| r[4] == "naive" && r[3] == "0.05" && r[8] != "0"),
-        "the naive executor collides under delays (so the test can fail)"
+            .filter(|r| r[4] == "naive" && r[3] == "0.05" && r[5] == k)
+            .map(|r| r[9].parse::<usize>().unwrap())
+            .sum()
+    };
+    assert!(
+        collisions("0") > 0,
+        "the naive executor collides under delays"
+    );
+    assert!(
+        collisions("2") < collisions("0"),
+        "2-robust plans collide less when executed naively"
     );
     let (code, err) = mrpp(&[
         "experiment",
@@ -231,5 +244,64 @@ fn the_execution_experiment_sweeps_delays_and_executors() {
     assert_eq!(code, Some(1));
     assert!(err.contains("fast is not adg or naive"), "{err}");
     assert!(!dir.join("bad").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn a_k_robust_plan_collides_less_when_executed_naively() {
+    let dir = std::env::temp_dir().join(format!("mrpp-execute-robust-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let plan = dir.join("plan.json");
+    let (code, err) = mrpp(&[
+        "solve",
+        "-m",
+        MAP,
+        "-i",
+        "data/movingai/random-32-32-20-random-1.scen",
+        "-N",
+        "60",
+        "-P",
+        "lacam",
+        "-o",
+        plan.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    let mut collisions = Vec::new();
+    for k in ["0", "3"] {
+        let out = dir.join(format!("k{k}.json"));
+        let (code, err) = execute(
+            &plan,
+            &out,
+            &[
+                "--executor",
+                "naive",
+                "--delays",
+                "bernoulli:p=0.005,min=1,max=6",
+                "--ticks-per-move",
+                "3",
+                "--agent-size",
+                "0.5",
+                "--k-robust",
+                k,
+                "-s",
+                "4",
+            ],
+        );
+        assert!(code == Some(0) || code == Some(3), "{err}");
+        let record: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+        assert_eq!(record["k_robust"], k.parse::<u64>().unwrap());
+        collisions.push(record["metrics"]["collisions"].as_u64().unwrap());
+        if let Some(v) = checker(&plan, &out) {
+            assert_eq!(v["valid"], true, "{v}");
+            assert_eq!(v["collisions"], record["metrics"]["collisions"], "{v}");
+        }
+    }
+    assert!(collisions[1] < collisions[0], "{collisions:?}");
+    let (code, err) = execute(&plan, &dir.join("bad.json"), &["--k-robust", "-1"]);
+    assert_eq!(code, Some(1));
+    assert!(err.contains("--k-robust -1: expected 0 to 1000"), "{err}");
+    assert!(!dir.join("bad.json").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }

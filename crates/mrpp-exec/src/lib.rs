@@ -11,6 +11,7 @@ pub mod adg;
 pub mod check;
 pub mod delays;
 pub mod execute;
+pub mod robust;
 
 pub use adg::Adg;
 pub use delays::{DelayConfig, DelayGenerator};
