@@ -12,12 +12,14 @@ use std::time::Duration;
 use serde_json::{Map, Value, json};
 
 use mrpp_bench::report::{Panel, Series, line_panels};
+use mrpp_core::Deadline;
 use mrpp_core::Problem;
 use mrpp_core::mapf::plan_file::RunInfo;
 use mrpp_lifelong::execution::ExecutionModel;
 use mrpp_lifelong::executor::ExecutorKind;
 use mrpp_lifelong::lorr_output::{from_json, model_of, to_json};
 use mrpp_lifelong::problem::{DEFAULT_PREPROCESS_TIME, DEFAULT_STEP_TIME, DEFAULT_STEPS};
+use mrpp_lifelong::scheduler::SchedulerKind;
 use mrpp_lifelong::{ActionModel, LifelongProblem};
 use mrpp_mapf::lorr_files;
 
@@ -492,5 +494,25 @@ fn info(inputs: &Inputs) -> Result<u8, Fail> {
         f.reveal_pool(),
         f.version
     );
+    if inputs.steps.is_some() {
+        // The congestion-free reference over the asked horizon (mrpp_lifelong::bound).
+        let problem = LifelongProblem::new(f, model(inputs)?, steps(inputs)?, step_time(inputs)?);
+        let limit = Deadline::after(Duration::from_secs(600));
+        for (kind, name) in [
+            (SchedulerKind::Greedy, "greedy"),
+            (SchedulerKind::Hungarian, "hungarian"),
+        ] {
+            match mrpp_lifelong::bound::congestion_free(&problem, kind, 400, limit) {
+                Some(n) => out!(
+                    "congestion-free reference ({name} scheduler, {}, {} steps): {n} tasks finished if robots never got in each other's way",
+                    problem.model().name(),
+                    problem.steps()
+                ),
+                None => out!(
+                    "congestion-free reference ({name} scheduler): not computed within 10 minutes"
+                ),
+            }
+        }
+    }
     Ok(0)
 }

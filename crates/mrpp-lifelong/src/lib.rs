@@ -13,6 +13,7 @@
 //! [`lorr_output`].
 //! `docs/lorr-semantics.md` has the kit's semantics with file and line references.
 
+pub mod bound;
 pub mod distances;
 pub mod execution;
 pub mod executor;
