@@ -60,6 +60,18 @@ pub fn line_panels(
     y_desc: &str,
     panels: &[Panel],
 ) -> Result<String, String> {
+    line_panels_with(title, &vec![(x_desc, y_desc); panels.len()], panels)
+}
+
+/// [`line_panels`] with each panel's own axis descriptions, `axes[k] = (x, y)` for `panels[k]`.
+/// Series drawn on top of each other stay visible: in a panel of up to four lines of ours, the
+/// first is drawn widest and each next one narrower (three planners at 100% show as nested
+/// bands, not one line).
+pub fn line_panels_with(
+    title: &str,
+    axes: &[(&str, &str)],
+    panels: &[Panel],
+) -> Result<String, String> {
     let mut svg = String::new();
     let err = |e: &dyn std::fmt::Display| e.to_string();
     {
@@ -133,11 +145,14 @@ pub fn line_panels(
                 .iter()
                 .all(|s| s.points.iter().all(|(x, _)| x.fract() == 0.0))
         });
-        for (area, panel) in plots
+        for ((area, panel), &(x_desc, y_desc)) in plots
             .split_evenly((1, panels.len().max(1)))
             .iter()
             .zip(panels)
+            .zip(axes.iter().chain(std::iter::repeat(&("", ""))))
         {
+            let ours = panel.series.iter().filter(|s| !s.paper).count();
+            let mut drawn = 0u32;
             let (mut x0, mut x1, mut y1) = (f64::MAX, f64::MIN, 0f64);
             for s in &panel.series {
                 for (k, &(x, y)) in s.points.iter().enumerate() {
@@ -153,20 +168,27 @@ pub fn line_panels(
             // for data that start above it (so no negative ticks for non-negative data).
             let pad = if integer_x {
                 ((x1 - x0) * 0.05).max(0.5)
+            } else if x1 > x0 {
+                (x1 - x0) * 0.05
             } else {
-                ((x1 - x0) * 0.05).max(0.05)
+                0.05 * x0.abs().max(1.0)
             };
-            let left = if x0 > 0.0 && x0 - pad < 0.0 {
+            // Fractional data starting at zero start the axis at zero too (a delay probability
+            // of 0 is not "-0.04"); integer axes keep half a step before their first value.
+            let left = if (x0 > 0.0 || (x0 == 0.0 && !integer_x)) && x0 - pad < 0.0 {
                 0.0
             } else {
                 x0 - pad
             };
+            let top = (y1 * 1.15).max(1.0);
+            // Every y tick with the same decimals: one below 10, none above.
+            let y_decimals = if top < 10.0 { 1 } else { 0 };
             let mut chart = ChartBuilder::on(area)
                 .caption(&panel.title, ("sans-serif", 16))
                 .margin(12)
                 .x_label_area_size(32)
                 .y_label_area_size(60)
-                .build_cartesian_2d(left..(x1 + pad), 0f64..(y1 * 1.15).max(1.0))
+                .build_cartesian_2d(left..(x1 + pad), 0f64..top)
                 .map_err(|e| err(&e))?;
             let span = (x1 - x0).max(0.0);
             let x_ticks = if integer_x {
@@ -188,10 +210,15 @@ pub fn line_panels(
                 .x_labels(x_ticks)
                 .x_label_formatter(&x_format)
                 .y_label_formatter(&|v: &f64| {
-                    if (v - v.round()).abs() < 1e-9 {
-                        format!("{}", v.round() as i64)
+                    let t = format!("{v:.y_decimals$}");
+                    if t.trim_start_matches('-')
+                        .trim_matches(|c| c == '0' || c == '.')
+                        .is_empty()
+                    {
+                        // -0.0 and the like.
+                        format!("{:.y_decimals$}", 0.0)
                     } else {
-                        format!("{v:.2}")
+                        t
                     }
                 })
                 .light_line_style(WHITE.mix(0.0))
@@ -215,9 +242,15 @@ pub fn line_panels(
                         )
                         .map_err(|e| err(&e))?;
                 } else {
+                    let width = if ours <= 4 {
+                        2 + 2 * (ours as u32 - 1 - drawn)
+                    } else {
+                        2
+                    };
+                    drawn += 1;
                     chart
                         .draw_series(
-                            LineSeries::new(s.points.iter().copied(), c.stroke_width(2))
+                            LineSeries::new(s.points.iter().copied(), c.stroke_width(width))
                                 .point_size(3),
                         )
                         .map_err(|e| err(&e))?;
@@ -259,6 +292,38 @@ mod tests {
             }],
         )
         .unwrap()
+    }
+
+    #[test]
+    fn y_ticks_share_their_decimals_and_fractional_x_from_zero_starts_at_zero() {
+        // y in 0..1.5 (the bench's runtime.svg once ticked "0, 0.50, 1, 1.50"); x from 0 to 0.05
+        // (delay probabilities once started at "-0.04").
+        let svg = line_panels(
+            "t",
+            "p",
+            "ratio",
+            &[Panel {
+                title: "p".into(),
+                series: vec![Series {
+                    name: "a".into(),
+                    points: vec![(0.0, 1.0), (0.01, 1.2), (0.05, 1.3)],
+                    ..Series::default()
+                }],
+            }],
+        )
+        .unwrap();
+        let labels: Vec<&str> = svg
+            .split("<text")
+            .skip(1)
+            .filter_map(|t| Some(t.split('>').nth(1)?.split('<').next()?.trim()))
+            .filter(|l| l.parse::<f64>().is_ok())
+            .collect();
+        assert!(!labels.iter().any(|l| l.starts_with('-')), "{labels:?}");
+        // The y labels (one decimal each) include 0.0 and 1.0, not "0" and "1".
+        assert!(
+            labels.contains(&"0.0") && labels.contains(&"1.0") && labels.contains(&"1.4"),
+            "{labels:?}"
+        );
     }
 
     #[test]

@@ -19,7 +19,7 @@ use rand_chacha::ChaCha8Rng;
 use serde::{Deserialize, Serialize};
 
 use crate::harness::{Manifest, RunRecord, Sweep};
-use crate::report::{Panel, Series, csv_text, line_panels};
+use crate::report::{Panel, Series, csv_text, line_panels_with};
 use mrpp_core::Solved;
 use mrpp_core::error::{Error, Result};
 use mrpp_core::mapf::plan_file::RunInfo;
@@ -484,10 +484,13 @@ fn fig4(rows: &[&FormationRow]) -> Result<String> {
             ],
         },
     ];
-    line_panels(
+    line_panels_with(
         "Fig. 4: cost per configuration (sorted by optimum)",
-        "configuration",
-        "c_max / %",
+        &[
+            ("configuration", "c_max (cost of the plan)"),
+            ("configuration", "c_max (cost of the plan)"),
+            ("configuration", "% above the optimum"),
+        ],
         &panels,
     )
     .map_err(Error::Internal)

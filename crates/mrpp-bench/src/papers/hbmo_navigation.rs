@@ -25,7 +25,7 @@ use std::time::Duration;
 use serde::{Deserialize, Serialize};
 
 use crate::harness::{Manifest, RunRecord, Sweep};
-use crate::report::{Panel, Series, csv_text, line_panels};
+use crate::report::{Panel, Series, csv_text, line_panels, line_panels_with};
 use crate::stats::mann_whitney;
 use mrpp_continuous::generator::random_world;
 use mrpp_continuous::render::render_svg;
@@ -577,10 +577,14 @@ fn metrics_figure(planners: &[String], rows: &[&NavRow]) -> Result<String> {
             series: series("obstacles", &|r| r.atpd),
         },
     ];
-    line_panels(
+    line_panels_with(
         "HBMO paper Figs. 7, 9-11",
-        "robots / obstacles",
-        "value",
+        &[
+            ("robots", "ATPT (total path traversed)"),
+            ("robots", "ATPD (deviation from the ideal paths)"),
+            ("robots", "steps"),
+            ("obstacles", "ATPD (deviation from the ideal paths)"),
+        ],
         &panels,
     )
     .map_err(Error::Internal)
