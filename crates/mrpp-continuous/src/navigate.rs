@@ -148,7 +148,8 @@ impl Navigation {
         let mut pos: Vec<Point> = w.robots.iter().map(|r| r.start).collect();
         let mut traj: Vec<Vec<Point>> = pos.iter().map(|&p| vec![p]).collect();
         let (mut best, mut since) = (f64::INFINITY, 0);
-        for _ in 0..w.step_limit {
+        let mut throttle = mrpp_core::Throttle::new();
+        for step in 0..w.step_limit {
             let moving: Vec<usize> = (0..n)
                 .filter(|&i| dist(pos[i], w.robots[i].goal) > w.epsilon)
                 .collect();
@@ -158,6 +159,12 @@ impl Navigation {
             if ctx.deadline.expired() {
                 return Err(Unsolved::TimeLimit);
             }
+            throttle.report(ctx, || mrpp_core::Progress {
+                stage: "step",
+                done: step as u64,
+                total: w.step_limit as u64,
+                note: format!("{} of {n} robots arrived", n - moving.len()),
+            });
             let (targets, left) = self.targets(problem, &pos);
             if left < best - 1e-9 {
                 (best, since) = (left, 0);

@@ -56,6 +56,40 @@ pub struct Progress {
     pub note: String,
 }
 
+/// Reports from a loop at most every [`Throttle::PERIOD`], for planners whose iterations are
+/// much faster than a person reads (`ctx.report` on every PIBT step would cost more than the
+/// step). Costs nothing without a progress callback.
+#[derive(Debug, Clone, Default)]
+pub struct Throttle {
+    last: Option<std::time::Instant>,
+}
+
+impl Throttle {
+    /// Time between two reports.
+    pub const PERIOD: std::time::Duration = std::time::Duration::from_millis(250);
+
+    /// A throttle that reports at its first call.
+    pub fn new() -> Self {
+        Throttle::default()
+    }
+
+    /// Calls `ctx.report(make())` when a callback is set and [`Self::PERIOD`] has passed since
+    /// the last report (or there was none).
+    pub fn report(&mut self, ctx: &Ctx, make: impl FnOnce() -> Progress) {
+        if !ctx.reporting() {
+            return;
+        }
+        let now = std::time::Instant::now();
+        if self
+            .last
+            .is_none_or(|t| now.duration_since(t) >= Self::PERIOD)
+        {
+            self.last = Some(now);
+            ctx.report(make());
+        }
+    }
+}
+
 /// A progress callback (called from the planner's calling thread).
 pub type ProgressFn = Arc<dyn Fn(&Progress) + Send + Sync>;
 
@@ -95,6 +129,11 @@ impl Ctx {
             progress: None,
         }
     }
+    /// Whether anyone listens to [`Self::report`] (so a planner can skip building notes).
+    pub fn reporting(&self) -> bool {
+        self.progress.is_some()
+    }
+
     /// Reports progress when a callback is set.
     pub fn report(&self, p: Progress) {
         if let Some(f) = &self.progress {

@@ -27,8 +27,8 @@ pub mod registry;
 pub mod seeds;
 
 pub use contract::{
-    Ctx, Deadline, Planner, Problem, Progress, ProgressFn, Solved, Unsolved, accept, request_stop,
-    solve, stop_requested,
+    Ctx, Deadline, Planner, Problem, Progress, ProgressFn, Solved, Throttle, Unsolved, accept,
+    request_stop, solve, stop_requested,
 };
 pub use error::{Error, Result};
 pub use mapf::graph::{Graph, VertexId};

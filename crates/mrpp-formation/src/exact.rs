@@ -104,6 +104,15 @@ impl Planner<FormationProblem> for Exact {
         }
         let fits =
             crate::capacity::within_capacity(p).map_err(|b| Unsolved::GaveUp(b.to_string()))?;
+        let stage = |k: u64, note: String| {
+            ctx.report(mrpp_core::Progress {
+                stage: "exact stage",
+                done: k,
+                total: 3,
+                note,
+            });
+        };
+        stage(1, "first bound (sequential, a short GA)".into());
         let (seed, ub) = match first_bound(p, ctx)? {
             (_, ub) if !ub.is_finite() => {
                 let c = p.evaluate(&fits).map_or(f64::INFINITY, |e| e.c_max);
@@ -112,6 +121,7 @@ impl Planner<FormationProblem> for Exact {
             found => found,
         };
         let bound = if ub.is_finite() { ub } else { f64::MAX };
+        stage(2, format!("candidate paths within c_max {ub:.2}"));
         let (lim, dl) = (self.candidate_limit, &ctx.deadline);
         let cands = paths_up_to(p.roadmap(), p.start(), p.goal(), bound, lim, dl).map_err(
             |cut| match cut {
@@ -126,6 +136,10 @@ impl Planner<FormationProblem> for Exact {
             Some((plan, c)) if c < ub => (plan, c),
             _ => (seed, ub),
         };
+        stage(
+            3,
+            format!("branch and bound over {} candidate paths", cands.len()),
+        );
         let mut search = Search::new(p, ctx, &cands, ub);
         let all: Vec<usize> = (0..search.cands.len()).collect();
         let root = search.feasible(&all);
@@ -216,6 +230,7 @@ struct Search<'a> {
     best: f64,
     best_plan: Option<Vec<usize>>,
     steps: u64,
+    throttle: mrpp_core::Throttle,
     /// Candidate index of each placed robot.
     chosen: Vec<usize>,
     /// Per edge: the placed robots on it (bit i = robot i).
@@ -270,6 +285,7 @@ impl<'a> Search<'a> {
             best,
             best_plan: None,
             steps: 0,
+            throttle: mrpp_core::Throttle::new(),
             chosen: Vec::with_capacity(p.robots()),
             on: vec![0; ne],
             forward: vec![true; ne],
@@ -640,8 +656,17 @@ impl<'a> Search<'a> {
                 break;
             }
             self.steps += 1;
-            if self.steps.is_multiple_of(256) && self.ctx.deadline.expired() {
-                return Err(Unsolved::TimeLimit);
+            if self.steps.is_multiple_of(256) {
+                if self.ctx.deadline.expired() {
+                    return Err(Unsolved::TimeLimit);
+                }
+                let (steps, best) = (self.steps, self.best);
+                self.throttle.report(self.ctx, || mrpp_core::Progress {
+                    stage: "branch and bound",
+                    done: steps,
+                    total: 0,
+                    note: format!("best c_max {best:.2}"),
+                });
             }
             self.place(j);
             if self.chosen.len() < self.robots {

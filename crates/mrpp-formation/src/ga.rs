@@ -156,10 +156,17 @@ impl Ga {
             .min_by(|a, b| a.c_max.total_cmp(&b.c_max))?
             .clone();
         let (mut at, mut done) = (0, 0);
+        let mut throttle = mrpp_core::Throttle::new();
         for g in 1..=self.generations {
             if ctx.deadline.expired() {
                 break;
             }
+            throttle.report(ctx, || mrpp_core::Progress {
+                stage: "GA generation",
+                done: g as u64 - 1,
+                total: self.generations as u64,
+                note: format!("best c_max {:.2}", best.c_max),
+            });
             pop = self.next_generation(p, &pop, &best, c, &mut rng);
             done = g;
             let gen_best = pop.iter().min_by(|a, b| a.c_max.total_cmp(&b.c_max))?;

@@ -859,8 +859,10 @@ pub fn cooperative_coevolution(
     stage: &AstarStage,
     cfg: &Coevolution,
     rng: &mut ChaCha8Rng,
-    deadline: Deadline,
+    ctx: &Ctx,
 ) -> Result<Vec<Vec<VertexId>>, Unsolved> {
+    let deadline = ctx.deadline;
+    let mut throttle = mrpp_core::Throttle::new();
     let nv = g.num_vertices();
     let to_cells = |r: &[VertexId]| -> Vec<Cell> { r.iter().map(|&v| cell_of(g, v)).collect() };
     let mut conflicts = Conflicts::default();
@@ -903,6 +905,16 @@ pub fn cooperative_coevolution(
         if deadline.expired() {
             return Err(Unsolved::TimeLimit);
         }
+        throttle.report(ctx, || mrpp_core::Progress {
+            stage: "co-evolution generation",
+            done: generation as u64,
+            total: cfg.generations as u64,
+            note: if fewest == u32::MAX {
+                String::new()
+            } else {
+                format!("fewest collisions {fewest}")
+            },
+        });
         let collaborators: Vec<Vec<Individual>> = populations
             .iter()
             .map(|pop| {
@@ -987,7 +999,7 @@ impl Planner<MapfProblem> for Coevolution {
             return Ok(Plan::new(stage.routes.clone()));
         }
         let mut rng = ChaCha8Rng::seed_from_u64(opts.seed);
-        let paths = cooperative_coevolution(g, &grid, inst, &stage, self, &mut rng, opts.deadline)?;
+        let paths = cooperative_coevolution(g, &grid, inst, &stage, self, &mut rng, opts)?;
         Ok(Plan::new(paths))
     }
 }

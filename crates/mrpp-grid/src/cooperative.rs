@@ -286,10 +286,17 @@ impl Cooperative {
             .unwrap_or(u32::try_from(n).unwrap_or(u32::MAX));
         let mut res = Reservations::new(n);
         let mut paths = vec![Vec::new(); inst.num_agents()];
+        let mut throttle = mrpp_core::Throttle::new();
         for (planned, &i) in prep.order.iter().enumerate() {
             if opts.deadline.expired() {
                 return Err(Unsolved::TimeLimit);
             }
+            throttle.report(opts, || mrpp_core::Progress {
+                stage: "agents planned",
+                done: planned as u64,
+                total: inst.num_agents() as u64,
+                note: String::new(),
+            });
             let (start, goal) = (inst.starts[i], inst.goals[i]);
             let h = heuristic_of(graph, prep.tables.as_deref(), i, goal);
             let q = Query {
@@ -353,7 +360,17 @@ impl Cooperative {
             return Ok(Plan::new(paths));
         }
         let mut t0 = 0u32;
+        let mut throttle = mrpp_core::Throttle::new();
         loop {
+            throttle.report(opts, || mrpp_core::Progress {
+                stage: "window start",
+                done: u64::from(t0),
+                total: 0,
+                note: format!(
+                    "{} of {k} agents on their goals",
+                    (0..k).filter(|&i| pos[i] == inst.goals[i]).count()
+                ),
+            });
             if t0 >= cap {
                 let away = (0..k).filter(|&i| pos[i] != inst.goals[i]).count();
                 return Err(Unsolved::GaveUp(format!(

@@ -739,11 +739,14 @@ pub fn paper_stages(
 ) -> Result<PaperStages, Unsolved> {
     let corridors = Corridors::build_until(g, opts.deadline).ok_or(Unsolved::TimeLimit)?;
     let mut rng = ChaCha8Rng::seed_from_u64(opts.seed);
+    stage(opts, 1, "greedy path search");
     let (mut paths, greedy_end) =
         greedy_path_search(g, &corridors, dist, inst, cfg, &mut rng, opts.deadline)?;
+    stage(opts, 2, "loop elimination");
     for p in &mut paths {
         loop_elimination(p);
     }
+    stage(opts, 3, "collision elimination");
     let resolution_end = collision_elimination(
         &mut paths,
         g.num_vertices(),
@@ -757,6 +760,17 @@ pub fn paper_stages(
         greedy_end,
         resolution_end,
     })
+}
+
+/// Reports the H* stage about to run (`k` of 5: the paper's three steps, then mrpp's repair and
+/// local re-planning).
+fn stage(opts: &Ctx, k: u64, name: &str) {
+    opts.report(mrpp_core::Progress {
+        stage: "H* stage",
+        done: k,
+        total: 5,
+        note: name.to_string(),
+    });
 }
 
 impl Planner<MapfProblem> for HStar {
@@ -793,6 +807,7 @@ impl Planner<MapfProblem> for HStar {
                 }));
             }
             (false, Variant::Repaired) => {
+                stage(opts, 4, "reservation repair");
                 match reservation_repair(
                     g,
                     inst,
@@ -814,6 +829,7 @@ impl Planner<MapfProblem> for HStar {
             }
         };
         if self.variant == Variant::Repaired {
+            stage(opts, 5, "local re-planning");
             local_replanning(
                 g,
                 inst,

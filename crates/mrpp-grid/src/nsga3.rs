@@ -760,7 +760,19 @@ impl Planner<MapfProblem> for Nsga3Planner {
             routes.push(r);
         }
         let problem = RouteSelection::new(&routes, g.num_vertices(), self);
-        let outcome = self.engine().run(&problem, &mut rng, deadline, None);
+        let mut throttle = mrpp_core::Throttle::new();
+        let total = self.generations as u64;
+        let mut report = |g: &mrpp_evo::nsga3::Generation<'_, _>| {
+            throttle.report(opts, || mrpp_core::Progress {
+                stage: "NSGA-III generation",
+                done: g.index as u64,
+                total,
+                note: String::new(),
+            });
+        };
+        let outcome = self
+            .engine()
+            .run(&problem, &mut rng, deadline, Some(&mut report));
         let front = outcome.first_front();
         match select_answer(&problem, &front) {
             Some(best) => Ok(Plan::new(problem.paths(&best.genome))),

@@ -326,10 +326,20 @@ impl Planner<MapfProblem> for Pibt {
         let mut order: Vec<usize> = (0..n).collect();
         let mut next = vec![VertexId::MAX; n];
         let mut occupied_next = vec![NIL; g.num_vertices()];
+        let mut throttle = mrpp_core::Throttle::new();
         for step in 0..=max_steps {
             if (0..n).all(|i| now[i] == inst.goals[i]) {
                 return Ok(Plan { paths });
             }
+            throttle.report(ctx, || mrpp_core::Progress {
+                stage: "PIBT step",
+                done: step as u64,
+                total: max_steps as u64,
+                note: format!(
+                    "{} of {n} agents on their goals",
+                    (0..n).filter(|&i| now[i] == inst.goals[i]).count()
+                ),
+            });
             if step == max_steps {
                 break;
             }
