@@ -785,3 +785,37 @@ fn an_unsolved_grid_plan_file_shows_its_starts_and_goals() {
     assert_eq!(ran.code, Some(1), "{}", ran.err);
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// Item 8 (part): a plan file with a value of the wrong type names the key path of that value,
+/// not serde's "at line 1 column 496".
+#[test]
+fn a_malformed_plan_file_names_the_key_path() {
+    let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data");
+    let dir = std::env::temp_dir().join(format!("mrpp-key-path-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let map = data.join("movingai/random-32-32-20.map");
+    let scen = data.join("movingai/random-32-32-20-random-1.scen");
+    let (map, scen) = (map.to_str().unwrap(), scen.to_str().unwrap());
+    let r = mrpp_in(
+        &dir,
+        &[
+            "solve", "-m", map, "-i", scen, "-N", "5", "-P", "lacam", "-o", "p.json",
+        ],
+    );
+    assert_eq!(r.code, Some(0), "{}", r.err);
+    let mut plan: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("p.json")).unwrap()).unwrap();
+    plan["agents"][3]["path"][2][0] = serde_json::json!("a");
+    std::fs::write(dir.join("bad.json"), plan.to_string()).unwrap();
+    let r = mrpp_in(&dir, &["validate", "-m", map, "--plan", "bad.json"]);
+    assert_eq!(r.code, Some(1));
+    assert!(
+        r.err
+            .contains("`agents[3].path[2][0]`: invalid type: string \"a\", expected i64"),
+        "{}",
+        r.err
+    );
+    assert!(!r.err.contains("column"), "{}", r.err);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -109,11 +109,29 @@ fn null_as_empty<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Map<String, V
 }
 
 impl<E: Serialize + DeserializeOwned> Envelope<E> {
-    /// Reads an envelope; malformed JSON or a wrong shape becomes [`Error::Parse`] with serde's
-    /// (1-based) line number. A `format` other than [`FORMAT`] (and not empty) is refused.
+    /// Reads an envelope; malformed JSON or a wrong shape becomes [`Error::Parse`] with its
+    /// (1-based) line and the key path of the value at fault (`agents[3].path[12]: invalid
+    /// type: string "a", expected i64`), not serde's column. A `format` other than [`FORMAT`]
+    /// (and not empty) is refused.
     pub fn parse(text: &str, path: &Path) -> Result<Self> {
-        let env: Self = serde_json::from_str(text)
-            .map_err(|e| Error::parse(path, e.line().max(1), e.to_string()))?;
+        let de = &mut serde_json::Deserializer::from_str(text);
+        let env: Self = serde_path_to_error::deserialize(de).map_err(|e| {
+            let at = e.path().to_string();
+            let inner = e.into_inner();
+            let line = inner.line().max(1);
+            // serde_json appends " at line L column C"; the line is in the error's place.
+            let msg = inner.to_string();
+            let msg = msg
+                .rsplit_once(" at line ")
+                .map_or(msg.as_str(), |(m, _)| m)
+                .to_string();
+            let msg = if at.is_empty() || at == "." {
+                msg
+            } else {
+                format!("`{at}`: {msg}")
+            };
+            Error::parse(path, line, msg)
+        })?;
         if !env.format.is_empty() && env.format != FORMAT {
             return Err(Error::invalid(
                 path,
