@@ -345,8 +345,12 @@ pub fn from_json(problem: &LifelongProblem, text: &str, path: &Path) -> Result<(
         .filter(|&k| !in_ticks && n > 0 && actions.iter().all(|a| a[k] == Action::NoAction))
         .map(|k| k as u32)
         .collect();
-    let schedule = schedule_changes(&json, "actualSchedule", n, path)?;
-    let proposed_schedule = schedule_changes(&json, "plannerSchedule", n, path)?;
+    // The kit v3.1.0 stamps the first assignment with its task manager's clock before that
+    // clock is set (an uninitialised int, e.g. 741946930); the first plan is applied at tick 0,
+    // so in the 2026 layout a first entry past the run is read as 0 (docs/lorr-semantics.md §5).
+    let first_past = in_ticks.then(|| json.get("makespan").and_then(Value::as_u64).unwrap_or(0));
+    let schedule = schedule_changes(&json, "actualSchedule", n, path, first_past)?;
+    let proposed_schedule = schedule_changes(&json, "plannerSchedule", n, path, first_past)?;
     let planner_times = json
         .get("plannerTimes")
         .and_then(Value::as_array)
@@ -485,7 +489,13 @@ pub fn model_of(json: &Value, path: &Path) -> Result<ActionModel> {
 }
 
 /// Per-robot `"t:task,t:task"` strings as changes in time order (robot order within a step).
-fn schedule_changes(json: &Value, key: &str, n: usize, path: &Path) -> Result<Vec<Assign>> {
+fn schedule_changes(
+    json: &Value,
+    key: &str,
+    n: usize,
+    path: &Path,
+    first_past: Option<u64>,
+) -> Result<Vec<Assign>> {
     let Some(v) = json.get(key) else {
         return Ok(Vec::new());
     };
@@ -498,7 +508,7 @@ fn schedule_changes(json: &Value, key: &str, n: usize, path: &Path) -> Result<Ve
         let s = s
             .as_str()
             .ok_or_else(|| Error::invalid(path, format!("`{key}`[{agent}] is not a string")))?;
-        for entry in s.split(',').filter(|e| !e.trim().is_empty()) {
+        for (k, entry) in s.split(',').filter(|e| !e.trim().is_empty()).enumerate() {
             let bad = || {
                 Error::invalid(
                     path,
@@ -506,7 +516,11 @@ fn schedule_changes(json: &Value, key: &str, n: usize, path: &Path) -> Result<Ve
                 )
             };
             let (t, task) = entry.trim().split_once(':').ok_or_else(bad)?;
-            let t: u32 = t.parse().map_err(|_| bad())?;
+            let t: u64 = t.trim().parse().map_err(|_| bad())?;
+            let t = match first_past {
+                Some(end) if k == 0 && t > end => 0,
+                _ => u32::try_from(t).map_err(|_| bad())?,
+            };
             let task: i64 = task.parse().map_err(|_| bad())?;
             out.push(Assign {
                 t,
