@@ -346,8 +346,9 @@ pub fn from_json(problem: &LifelongProblem, text: &str, path: &Path) -> Result<(
         .map(|k| k as u32)
         .collect();
     // The kit v3.1.0 stamps the first assignment with its task manager's clock before that
-    // clock is set (an uninitialised int, e.g. 741946930); the first plan is applied at tick 0,
-    // so in the 2026 layout a first entry past the run is read as 0 (docs/lorr-semantics.md §5).
+    // clock is set (an uninitialised int, e.g. 741946930 or -1350986528); the first plan is
+    // applied at tick 0, so in the 2026 layout a first entry outside the run is read as 0
+    // (docs/lorr-semantics.md §5).
     let first_past = in_ticks.then(|| json.get("makespan").and_then(Value::as_u64).unwrap_or(0));
     let schedule = schedule_changes(&json, "actualSchedule", n, path, first_past)?;
     let proposed_schedule = schedule_changes(&json, "plannerSchedule", n, path, first_past)?;
@@ -516,9 +517,9 @@ fn schedule_changes(
                 )
             };
             let (t, task) = entry.trim().split_once(':').ok_or_else(bad)?;
-            let t: u64 = t.trim().parse().map_err(|_| bad())?;
+            let t: i64 = t.trim().parse().map_err(|_| bad())?;
             let t = match first_past {
-                Some(end) if k == 0 && t > end => 0,
+                Some(end) if k == 0 && (t < 0 || t as u64 > end) => 0,
                 _ => u32::try_from(t).map_err(|_| bad())?,
             };
             let task: i64 = task.parse().map_err(|_| bad())?;

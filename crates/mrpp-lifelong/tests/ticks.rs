@@ -93,10 +93,20 @@ fn every_planner_runs_in_ticks_under_delays_and_its_2026_output_reads_back() {
                     // The kit v3.1.0 stamps each robot's first schedule entry with an
                     // uninitialised clock (e.g. 741946930): read as tick 0.
                     let mut kit_like = json.clone();
-                    for entry in kit_like["actualSchedule"].as_array_mut().unwrap() {
+                    for (k, entry) in kit_like["actualSchedule"]
+                        .as_array_mut()
+                        .unwrap()
+                        .iter_mut()
+                        .enumerate()
+                    {
                         let s = entry.as_str().unwrap().to_string();
+                        let clock = if k % 2 == 0 {
+                            "741946930"
+                        } else {
+                            "-1350986528"
+                        };
                         if let Some(rest) = s.strip_prefix("0:") {
-                            *entry = serde_json::Value::String(format!("741946930:{rest}"));
+                            *entry = serde_json::Value::String(format!("{clock}:{rest}"));
                         }
                     }
                     let (back, _) =
