@@ -52,6 +52,9 @@ def fail(reason):
     sys.exit(1)
 
 
+_fail = fail
+
+
 def read_map(path):
     with open(path, encoding="utf-8") as f:
         lines = f.read().splitlines()
@@ -560,10 +563,13 @@ def parse_lorr_schedule(text, agent):
     return entries
 
 
-def recount_lorr_tasks(P, out, L, changes, times):
+def recount_lorr_tasks(P, out, L, changes, times, note=""):
     """Replays the task manager, with the task update after tick r at time times[r] (None for
     an executor-timeout tick, which has no update); returns the number of tasks finished.
-    See check_lorr2026."""
+    See check_lorr2026; note prefixes the messages."""
+    def fail(reason):
+        _fail(note + reason)
+
     n, cols, tasks, pool = P["n"], P["cols"], P["tasks"], P["reveal"]
     entries = lorr_schedule(out, n)
     file_events = [tuple(e) for e in out.get("events", [])]
@@ -773,6 +779,18 @@ def place_unrecorded_ticks(P, out, L, changes, timeout_tick, unrecorded):
             if k and (low is None or prev[k - 1] >= low):
                 cur[s] = prev[k - 1]
         if not cur:
+            # recount with the placement that got furthest, for a message naming the difference
+            times, s = [None] * L, max(prev) if prev else None
+            for q in reversed([q for q in real if q < r]):
+                times[q] = s
+                s = back[q][s]
+            shift = (max(prev) - prev_r - 1) if prev else 0
+            for q in real:
+                if q >= r:
+                    times[q] = q + 1 + shift
+            recount_lorr_tasks(P, out, L, changes, times, note=(
+                f"no placement of the {unrecorded} unrecorded ticks (makespan {out['makespan']}, "
+                f"{L} recorded) reproduces the file's events beyond tick {r}; with the best one, "))
             fail(f"tick {r}: no placement of the {unrecorded} unrecorded ticks (makespan "
                  f"{out['makespan']}, {L} recorded) makes the task updates reproduce the file's "
                  f"events up to here")
