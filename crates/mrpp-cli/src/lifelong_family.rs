@@ -404,6 +404,23 @@ fn scene(inputs: &Inputs, plan: &Path) -> Result<Value, Fail> {
             if rotations {
                 a["headings"] = json!(headings[i]);
             }
+            if let Some(record) = &read.plan.ticks {
+                // Runs in ticks: a red ring while a delay holds the robot (path index t + 1
+                // shows the end of tick t).
+                let mut held: Vec<[u64; 2]> = Vec::new();
+                for iv in record.delays.get(i).into_iter().flatten() {
+                    match held.last_mut() {
+                        Some(last) if last[1] == 0 && last[0] >= iv[0] + 1 => {
+                            last[0] = last[0].max(iv[1] + 1);
+                        }
+                        _ => {
+                            held.push([iv[0] + 1, 1]);
+                            held.push([iv[1] + 1, 0]);
+                        }
+                    }
+                }
+                a["held"] = json!(held);
+            }
             a
         })
         .collect();

@@ -13,7 +13,8 @@
 //!             grids give "cells": [y * width + x, ...] instead of "path" (cell centres);
 //!             lifelong runs add change lists, each entry holding from its step on:
 //!             "goals": [[t, cell or -1, task id or -1], ...], "headings": [[t, 0..3], ...];
-//!             executed records (`mrpp execute`) add "held": [[t, 1 | 0], ...] (a delay holds it)
+//!             executed records (`mrpp execute`) and lifelong runs in ticks add "held":
+//!             [[t, 1 | 0], ...] (a delay holds it)
 //!   "series": {"name", "values": [one per step]}   drawn as a small chart (lifelong: tasks finished)
 //!   "verdict": {"valid": true, "metrics": {...}} | {"valid": false, "text", "conflict"?: {"t", "agents", "at"}} }
 //! ```

@@ -522,6 +522,20 @@ fn a_run_in_ticks_under_delays_is_written_validated_and_bad_settings_are_refused
         stdout.contains(&format!("tasks_finished {finished}")),
         "{stdout}"
     );
+    // The viewer marks delays (a red ring while a delay holds a robot).
+    let page = dir.join("ticks.html");
+    let (code, stdout, err) = mrpp(&[
+        "view",
+        "--lorr",
+        MAZE,
+        "--plan",
+        o,
+        "--out",
+        page.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(0), "{stdout}{err}");
+    let html = std::fs::read_to_string(&page).unwrap();
+    assert!(html.contains("\"held\":[["), "no delay marked in the page");
     // A delayed robot that turns anyway: refused, naming the tick and the robot.
     let mut bad = run.clone();
     let (agent, start) = run["delayIntervals"]
