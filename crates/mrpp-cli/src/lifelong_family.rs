@@ -410,7 +410,7 @@ fn scene(inputs: &Inputs, plan: &Path) -> Result<Value, Fail> {
                 let mut held: Vec<[u64; 2]> = Vec::new();
                 for iv in record.delays.get(i).into_iter().flatten() {
                     match held.last_mut() {
-                        Some(last) if last[1] == 0 && last[0] >= iv[0] + 1 => {
+                        Some(last) if last[1] == 0 && last[0] > iv[0] => {
                             last[0] = last[0].max(iv[1] + 1);
                         }
                         _ => {
