@@ -991,6 +991,12 @@ impl Planner<MapfProblem> for Coevolution {
         let grid = GridCells::from_graph(g).ok_or_else(|| {
             Unsolved::GaveUp("Enol2023 needs a grid graph (vertex coordinates)".into())
         })?;
+        opts.report(mrpp_core::Progress {
+            stage: "Enol2023 stage",
+            done: 1,
+            total: 2,
+            note: "A* with private obstacles".into(),
+        });
         let stage = astar_with_private_obstacles(g, inst, self, opts.deadline)?;
         if stage.conflict_free
             && first_conflict(&stage.routes, g.num_vertices(), true).is_none()

@@ -195,6 +195,12 @@ impl Planner<MapfProblem> for Cooperative {
         if opts.deadline.expired() {
             return Err(Unsolved::TimeLimit);
         }
+        opts.report(mrpp_core::Progress {
+            stage: "priorities and distances",
+            done: 0,
+            total: inst.num_agents() as u64,
+            note: String::new(),
+        });
         let prep = prepare(graph, inst, self.heuristic, opts)?;
         match self.window {
             None => self.plan_sequential(graph, inst, opts, &prep),

@@ -762,7 +762,7 @@ pub fn paper_stages(
     })
 }
 
-/// Reports the H* stage about to run (`k` of 5: the paper's three steps, then mrpp's repair and
+/// Reports the H* stage about to run (`k` of 5, after 0 = the goal distances: the paper's three steps, then mrpp's repair and
 /// local re-planning).
 fn stage(opts: &Ctx, k: u64, name: &str) {
     opts.report(mrpp_core::Progress {
@@ -780,6 +780,7 @@ impl Planner<MapfProblem> for HStar {
 
     fn plan(&self, problem: &MapfProblem, opts: &Ctx) -> Result<Plan, Unsolved> {
         let (g, inst) = (problem.graph(), problem.instance());
+        stage(opts, 0, "goal distances");
         // Every robot's goal distances, shared by all stages.
         let dist = distances(g, inst, opts.deadline)?;
         let stages = paper_stages(g, &dist, inst, self, opts)?;

@@ -730,6 +730,12 @@ impl Planner<MapfProblem> for Nsga3Planner {
             return Ok(Plan::default());
         }
         let mut rng = ChaCha8Rng::seed_from_u64(opts.seed);
+        opts.report(mrpp_core::Progress {
+            stage: "NSGA-III routes",
+            done: 0,
+            total: n as u64,
+            note: format!("pre-generating routes for {n} robots"),
+        });
         let mut routes = Vec::with_capacity(n);
         let mut goal_cells = vec![false; g.num_vertices()];
         if self.avoid_other_goals {

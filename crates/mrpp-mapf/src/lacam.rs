@@ -336,6 +336,7 @@ fn search_within(
     let refine = lacam.anytime && lacam.refine && lacam.objective == Objective::SumOfLoss;
     let mut lns: Option<Lns> = None;
     let mut iterations = 0u64;
+    let mut throttle = mrpp_core::Throttle::new();
     while let Some(&top) = open.last() {
         if ctx.deadline.expired()
             || iterations >= max_iterations
@@ -344,6 +345,15 @@ fn search_within(
             break;
         }
         iterations += 1;
+        if first.is_none() {
+            let configurations = s.nodes.len();
+            throttle.report(ctx, || Progress {
+                stage: "LaCAM search",
+                done: iterations,
+                total: 0,
+                note: format!("{configurations} configurations, no plan yet"),
+            });
+        }
         if let Some(l) = lns.as_mut()
             && iterations.is_multiple_of(LNS_EVERY)
         {

@@ -302,6 +302,12 @@ impl Planner<MapfProblem> for Pibt {
     fn plan(&self, problem: &MapfProblem, ctx: &Ctx) -> Result<Plan, Unsolved> {
         let (g, inst) = (problem.graph(), problem.instance());
         let n = inst.num_agents();
+        ctx.report(mrpp_core::Progress {
+            stage: "PIBT",
+            done: 0,
+            total: 0,
+            note: format!("goal distances of {n} agents"),
+        });
         let mut dist = GoalDistances::new(g, &inst.goals);
         if !dist.warm_up(&inst.starts, ctx.deadline) {
             return Err(Unsolved::TimeLimit);
