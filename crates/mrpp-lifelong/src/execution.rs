@@ -51,7 +51,8 @@ use crate::distances::Distances;
 use crate::executor::{Executor, ExecutorKind};
 use crate::model::{Action, State};
 use crate::problem::{
-    Assign, LifelongProblem, LifelongViolation, ScheduleErrorRecord, StepError, Trace,
+    Assign, LifelongProblem, LifelongViolation, ScheduleErrorRecord, StepError, Trace, check_shape,
+    scheduled_at,
 };
 use crate::runner::Answer;
 use crate::sim::Simulation;
@@ -476,28 +477,7 @@ pub fn replay_ticks<'p>(
 ) -> std::result::Result<Simulation<'p>, LifelongViolation> {
     let map = problem.map();
     let n = problem.starts().len();
-    let ticks = trace.steps();
-    if trace.actions.len() != n {
-        return Err(LifelongViolation::Robots {
-            got: trace.actions.len(),
-            want: n,
-        });
-    }
-    for (agent, a) in trace.actions.iter().enumerate() {
-        if a.len() != ticks as usize {
-            return Err(LifelongViolation::Ragged {
-                agent,
-                got: a.len(),
-                want: ticks as usize,
-            });
-        }
-    }
-    if ticks > problem.steps() {
-        return Err(LifelongViolation::PastHorizon {
-            got: ticks,
-            horizon: problem.steps(),
-        });
-    }
+    let ticks = check_shape(problem, trace)?;
     let counter = record.agent_counter.max(1);
     let mut sim = Simulation::new(problem);
     let mut now: Vec<TickState> = sim.states.iter().map(|&s| TickState::idle(s)).collect();
@@ -512,34 +492,7 @@ pub fn replay_ticks<'p>(
     let mut next = now.clone();
     for k in 0..ticks {
         // Schedule changes take effect before the tick's moves (when a plan is staged).
-        let mut proposal = sim.assignment.clone();
-        let mut any = false;
-        while let Some((index, c)) = changes.peek().copied() {
-            if c.t != k {
-                if c.t < k || c.agent >= n {
-                    return Err(LifelongViolation::ScheduleOrder { index, step: c.t });
-                }
-                break;
-            }
-            if c.agent >= n {
-                return Err(LifelongViolation::ScheduleOrder { index, step: c.t });
-            }
-            proposal[c.agent] = c.task;
-            any = true;
-            changes.next();
-        }
-        if any {
-            sim.check_schedule(&proposal).map_err(|e| {
-                let (task, agent1, agent2) = e.ids();
-                LifelongViolation::Schedule {
-                    step: k,
-                    agent: agent1.max(0) as usize,
-                    message: e.message(),
-                    task,
-                    agent1,
-                    agent2,
-                }
-            })?;
+        if let Some(proposal) = scheduled_at(&sim, &mut changes, k)? {
             sim.apply_schedule(&proposal);
         }
         for i in 0..n {

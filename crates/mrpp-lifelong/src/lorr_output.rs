@@ -45,7 +45,6 @@ pub fn to_json(problem: &LifelongProblem, trace: &Trace) -> std::result::Result<
         return to_json_2026(problem, trace, record);
     }
     let n = problem.starts().len();
-    let map = problem.map();
     let mut held = vec![0u32; n];
     let sim = replay(problem, trace, |sim| {
         for (h, a) in held.iter_mut().zip(&sim.assignment) {
@@ -53,10 +52,6 @@ pub fn to_json(problem: &LifelongProblem, trace: &Trace) -> std::result::Result<
         }
     })
     .map_err(|e| e.to_string())?;
-    let row_col = |v| {
-        let (x, y) = map.cell(v);
-        (y, x)
-    };
     let paths = |per_robot: &Vec<Vec<Action>>| -> Vec<String> {
         per_robot
             .iter()
@@ -68,13 +63,6 @@ pub fn to_json(problem: &LifelongProblem, trace: &Trace) -> std::result::Result<
             })
             .collect()
     };
-    let schedules = |changes: &[Assign]| -> Vec<String> {
-        let mut per = vec![Vec::new(); n];
-        for c in changes {
-            per[c.agent].push(format!("{}:{}", c.t, c.task.map_or(-1, |k| k as i64)));
-        }
-        per.into_iter().map(|v| v.join(",")).collect()
-    };
     Ok(json!({
         "actionModel": problem.model().name(),
         "version": VERSION,
@@ -84,25 +72,16 @@ pub fn to_json(problem: &LifelongProblem, trace: &Trace) -> std::result::Result<
         "numPlannerErrors": trace.errors.len(),
         "numScheduleErrors": trace.schedule_errors.len(),
         "numEntryTimeouts": trace.late_steps.len(),
-        "start": problem.starts().iter().map(|&v| {
-            let (r, c) = row_col(v);
-            json!([r, c, "E"])
-        }).collect::<Vec<_>>(),
+        "start": starts_json(problem),
         "actualPaths": paths(&trace.actions),
         "plannerPaths": paths(&trace.planned),
         "plannerTimes": trace.planner_times,
         "errors": trace.errors.iter().map(|e| json!([e.agent1, e.agent2, e.t, e.message])).collect::<Vec<_>>(),
-        "actualSchedule": schedules(&trace.schedule),
-        "plannerSchedule": schedules(&trace.proposed_schedule),
+        "actualSchedule": schedules(&trace.schedule, n),
+        "plannerSchedule": schedules(&trace.proposed_schedule, n),
         "scheduleErrors": trace.schedule_errors.iter().map(|e| json!([e.task, e.agent1, e.agent2, e.t, e.message])).collect::<Vec<_>>(),
         "events": sim.events.iter().map(|e| json!([e.t, e.agent, e.task, e.done])).collect::<Vec<_>>(),
-        "tasks": sim.tasks.iter().map(|t| {
-            let cells: Vec<u32> = t.errands.iter().flat_map(|&v| {
-                let (r, c) = row_col(v);
-                [r, c]
-            }).collect();
-            json!([t.id, t.revealed, cells])
-        }).collect::<Vec<_>>(),
+        "tasks": tasks_json(problem, &sim),
     }))
 }
 
@@ -160,19 +139,7 @@ fn to_json_2026(
     record: &TickRecord,
 ) -> std::result::Result<Value, String> {
     let n = problem.starts().len();
-    let map = problem.map();
     let sim = replay_ticks(problem, trace, record, |_| {}).map_err(|e| e.to_string())?;
-    let row_col = |v| {
-        let (x, y) = map.cell(v);
-        (y, x)
-    };
-    let schedules = |changes: &[Assign]| -> Vec<String> {
-        let mut per = vec![Vec::new(); n];
-        for c in changes {
-            per[c.agent].push(format!("{}:{}", c.t, c.task.map_or(-1, |k| k as i64)));
-        }
-        per.into_iter().map(|v| v.join(",")).collect()
-    };
     Ok(json!({
         "actionModel": problem.model().name(),
         "version": VERSION_2026,
@@ -185,24 +152,15 @@ fn to_json_2026(
         "agentMaxCounter": record.agent_counter,
         "outputSegmentSize": SEGMENT,
         "delayIntervals": record.delays,
-        "start": problem.starts().iter().map(|&v| {
-            let (r, c) = row_col(v);
-            json!([r, c, "E"])
-        }).collect::<Vec<_>>(),
+        "start": starts_json(problem),
         "actualPaths": segments(problem, record, &trace.actions),
         "events": sim.events.iter().map(|e| json!([e.t, e.agent, e.task, e.done])).collect::<Vec<_>>(),
-        "tasks": sim.tasks.iter().map(|t| {
-            let cells: Vec<u32> = t.errands.iter().flat_map(|&v| {
-                let (r, c) = row_col(v);
-                [r, c]
-            }).collect();
-            json!([t.id, t.revealed, cells])
-        }).collect::<Vec<_>>(),
+        "tasks": tasks_json(problem, &sim),
         "plannerPaths": segments(problem, record, &trace.planned),
         "plannerTimes": trace.planner_times,
         "errors": trace.errors.iter().map(|e| json!([e.agent1, e.agent2, e.t, e.message])).collect::<Vec<_>>(),
-        "actualSchedule": schedules(&trace.schedule),
-        "plannerSchedule": schedules(&trace.proposed_schedule),
+        "actualSchedule": schedules(&trace.schedule, n),
+        "plannerSchedule": schedules(&trace.proposed_schedule, n),
         "scheduleErrors": trace.schedule_errors.iter().map(|e| json!([e.task, e.agent1, e.agent2, e.t, e.message])).collect::<Vec<_>>(),
     }))
 }
@@ -247,6 +205,47 @@ fn parse_segments(model: ActionModel, s: &str) -> std::result::Result<Vec<Action
         }
     }
     Ok(out)
+}
+
+/// Per robot, its schedule changes as the kit writes them: `"t:task,t:task"`, `-1` for none.
+fn schedules(changes: &[Assign], n: usize) -> Vec<String> {
+    let mut per = vec![Vec::new(); n];
+    for c in changes {
+        per[c.agent].push(format!("{}:{}", c.t, c.task.map_or(-1, |k| k as i64)));
+    }
+    per.into_iter().map(|v| v.join(",")).collect()
+}
+
+/// `start`: `[row, col, "E"]` per robot (every robot starts facing east).
+fn starts_json(problem: &LifelongProblem) -> Vec<Value> {
+    let map = problem.map();
+    problem
+        .starts()
+        .iter()
+        .map(|&v| {
+            let (x, y) = map.cell(v);
+            json!([y, x, "E"])
+        })
+        .collect()
+}
+
+/// `tasks`: `[id, t revealed, [row, col, row, col, ...]]` per revealed task.
+fn tasks_json(problem: &LifelongProblem, sim: &crate::sim::Simulation<'_>) -> Vec<Value> {
+    let map = problem.map();
+    sim.tasks
+        .iter()
+        .map(|t| {
+            let cells: Vec<u32> = t
+                .errands
+                .iter()
+                .flat_map(|&v| {
+                    let (x, y) = map.cell(v);
+                    [y, x]
+                })
+                .collect();
+            json!([t.id, t.revealed, cells])
+        })
+        .collect()
 }
 
 /// What an output JSON says besides its trace, for comparing with a replay.

@@ -285,27 +285,16 @@ impl mrpp_core::Problem for LifelongProblem {
     }
 }
 
-/// Replays `trace` from the start under the kit's rules (the validator), calling `after_step`
-/// with the state after each step's task update; returns the final state. A trace in ticks
-/// is replayed tick by tick ([`crate::execution::replay_ticks`]).
+/// The trace's length, after checking it has one action list per robot, all of one length, no
+/// longer than the horizon (steps or ticks).
 ///
 /// # Errors
-/// The first rule the trace breaks.
-pub fn replay<'p>(
-    problem: &'p LifelongProblem,
+/// [`LifelongViolation::Robots`], [`LifelongViolation::Ragged`], [`LifelongViolation::PastHorizon`].
+pub(crate) fn check_shape(
+    problem: &LifelongProblem,
     trace: &Trace,
-    mut after_step: impl FnMut(&Simulation<'p>),
-) -> std::result::Result<Simulation<'p>, LifelongViolation> {
+) -> std::result::Result<u32, LifelongViolation> {
     let n = problem.starts().len();
-    if trace.actions.len() != n {
-        return Err(LifelongViolation::Robots {
-            got: trace.actions.len(),
-            want: n,
-        });
-    }
-    if let Some(record) = &trace.ticks {
-        return crate::execution::replay_ticks(problem, trace, record, after_step);
-    }
     if trace.actions.len() != n {
         return Err(LifelongViolation::Robots {
             got: trace.actions.len(),
@@ -328,6 +317,70 @@ pub fn replay<'p>(
             horizon: problem.steps(),
         });
     }
+    Ok(steps)
+}
+
+/// The recorded schedule changes stamped `t` (taken from `changes`, in order), applied to the
+/// current assignment and checked by the kit's rules; `None` when there are none.
+///
+/// # Errors
+/// [`LifelongViolation::ScheduleOrder`] for a change out of order or of no robot,
+/// [`LifelongViolation::Schedule`] for a schedule the rules refuse.
+pub(crate) fn scheduled_at<'a>(
+    sim: &Simulation<'_>,
+    changes: &mut std::iter::Peekable<std::iter::Enumerate<std::slice::Iter<'a, Assign>>>,
+    t: u32,
+) -> std::result::Result<Option<Vec<Option<usize>>>, LifelongViolation> {
+    let n = sim.states.len();
+    let mut proposal = sim.assignment.clone();
+    let mut any = false;
+    while let Some(&(index, c)) = changes.peek() {
+        if c.t != t {
+            if c.t < t || c.agent >= n {
+                return Err(LifelongViolation::ScheduleOrder { index, step: c.t });
+            }
+            break;
+        }
+        if c.agent >= n {
+            return Err(LifelongViolation::ScheduleOrder { index, step: c.t });
+        }
+        proposal[c.agent] = c.task;
+        any = true;
+        changes.next();
+    }
+    if !any {
+        return Ok(None);
+    }
+    sim.check_schedule(&proposal).map_err(|e| {
+        let (task, agent1, agent2) = e.ids();
+        LifelongViolation::Schedule {
+            step: t,
+            agent: agent1.max(0) as usize,
+            message: e.message(),
+            task,
+            agent1,
+            agent2,
+        }
+    })?;
+    Ok(Some(proposal))
+}
+
+/// Replays `trace` from the start under the kit's rules (the validator), calling `after_step`
+/// with the state after each step's task update; returns the final state. A trace in ticks
+/// is replayed tick by tick ([`crate::execution::replay_ticks`]).
+///
+/// # Errors
+/// The first rule the trace breaks.
+pub fn replay<'p>(
+    problem: &'p LifelongProblem,
+    trace: &Trace,
+    mut after_step: impl FnMut(&Simulation<'p>),
+) -> std::result::Result<Simulation<'p>, LifelongViolation> {
+    if let Some(record) = &trace.ticks {
+        return crate::execution::replay_ticks(problem, trace, record, after_step);
+    }
+    let n = problem.starts().len();
+    let steps = check_shape(problem, trace)?;
     let late: rustc_hash::FxHashSet<u32> = trace.late_steps.iter().copied().collect();
     let mut sim = Simulation::new(problem);
     let mut changes = trace.schedule.iter().enumerate().peekable();
@@ -355,36 +408,8 @@ pub fn replay<'p>(
         })?;
         sim.step(next);
         // The schedule applied at this update: the assignment with this step's changes.
-        let mut proposal = sim.assignment.clone();
-        let mut any = false;
-        while let Some((index, c)) = changes.peek().copied() {
-            if c.t != sim.t {
-                if c.t < sim.t || c.agent >= n {
-                    return Err(LifelongViolation::ScheduleOrder { index, step: c.t });
-                }
-                break;
-            }
-            if c.agent >= n {
-                return Err(LifelongViolation::ScheduleOrder { index, step: c.t });
-            }
-            proposal[c.agent] = c.task;
-            any = true;
-            changes.next();
-        }
-        if any {
-            sim.check_schedule(&proposal).map_err(|e| {
-                let (task, agent1, agent2) = e.ids();
-                LifelongViolation::Schedule {
-                    step: sim.t,
-                    agent: agent1.max(0) as usize,
-                    message: e.message(),
-                    task,
-                    agent1,
-                    agent2,
-                }
-            })?;
-        }
-        sim.update_tasks(any.then_some(proposal.as_slice()));
+        let proposal = scheduled_at(&sim, &mut changes, sim.t)?;
+        sim.update_tasks(proposal.as_deref());
         after_step(&sim);
     }
     if let Some((index, c)) = changes.next() {
