@@ -519,7 +519,15 @@ fn info(inputs: &Inputs) -> Result<u8, Fail> {
             (SchedulerKind::Greedy, "greedy"),
             (SchedulerKind::Hungarian, "hungarian"),
         ] {
-            match mrpp_lifelong::bound::congestion_free(&problem, kind, 400, limit) {
+            let live = crate::progress::Live::start(name);
+            let ctx = mrpp_core::Ctx {
+                seed: 0,
+                deadline: limit,
+                progress: Some(live.callback()),
+            };
+            let bound = mrpp_lifelong::bound::congestion_free(&problem, kind, 400, &ctx);
+            live.finish();
+            match bound {
                 Some(n) => out!(
                     "congestion-free reference ({name} scheduler, {}, {} steps): {n} tasks finished if robots never got in each other's way",
                     problem.model().name(),

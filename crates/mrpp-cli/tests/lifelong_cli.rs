@@ -647,3 +647,22 @@ fn a_run_in_ticks_under_delays_is_written_validated_and_bad_settings_are_refused
     assert!(!none.exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn info_gives_the_congestion_free_reference_over_a_horizon() {
+    let (code, stdout, err) = mrpp(&["info", "--lorr", MAZE, "--lifelong", "--steps", "150"]);
+    assert_eq!(code, Some(0), "{stdout}{err}");
+    for scheduler in ["greedy", "hungarian"] {
+        let line = stdout
+            .lines()
+            .find(|l| l.contains(&format!("congestion-free reference ({scheduler} scheduler")))
+            .unwrap_or_else(|| panic!("{stdout}"));
+        let tasks: usize = line
+            .split(": ")
+            .nth(1)
+            .and_then(|r| r.split(' ').next())
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("{line}"));
+        assert!(tasks > 0, "{line}");
+    }
+}

@@ -21,13 +21,17 @@ use crate::scheduler::{SchedulerKind, schedule};
 use crate::sim::Simulation;
 
 /// Tasks finished in `problem`'s horizon without collisions (module doc), with `scheduler`
-/// (`hungarian_max` as the planners' parameter), or `None` when `deadline` passed first.
+/// (`hungarian_max` as the planners' parameter), or `None` when `ctx.deadline` passed first.
+/// Reports the step and the tasks finished through `ctx` (a 5,000-robot problem takes a
+/// minute).
 pub fn congestion_free(
     problem: &LifelongProblem,
     scheduler: SchedulerKind,
     hungarian_max: usize,
-    deadline: Deadline,
+    ctx: &mrpp_core::Ctx,
 ) -> Option<usize> {
+    let deadline = ctx.deadline;
+    let mut throttle = mrpp_core::Throttle::new();
     let map = problem.map();
     let graph = map.graph();
     let mut dist = Distances::new(graph.num_vertices(), DEFAULT_BUDGET);
@@ -39,6 +43,12 @@ pub fn congestion_free(
         if deadline.expired() {
             return None;
         }
+        throttle.report(ctx, || mrpp_core::Progress {
+            stage: "congestion-free step",
+            done: u64::from(sim.t),
+            total: u64::from(problem.steps()),
+            note: format!("{} tasks finished", sim.finished),
+        });
         let proposal = schedule(scheduler, hungarian_max, &sim, &mut dist, far);
         let next: Vec<State> = sim
             .states
@@ -120,7 +130,7 @@ mod tests {
         for model in [ActionModel::MapfT, ActionModel::Mapf] {
             let problem = LifelongProblem::load(&path, model, 150, Duration::from_secs(1)).unwrap();
             let bound =
-                congestion_free(&problem, SchedulerKind::Hungarian, 400, Deadline::none()).unwrap();
+                congestion_free(&problem, SchedulerKind::Hungarian, 400, &Ctx::default()).unwrap();
             let planner = PLANNERS[1]
                 .instantiate(&[("lns_iterations".into(), "100".into())])
                 .unwrap();
