@@ -16,7 +16,10 @@ Written from the rules in docs/execution.md, not from mrpp's Rust code:
 - PLAN is mrpp's plan envelope (`agents[i].path`, a list of [x, y] per step); a robot's moves
   are the steps where its cell changes (waits dropped), each to a 4-neighbour on a free cell;
 - the record's `agents[i].moves` are [first tick, tick after, from, to]: they must be the plan's
-  moves, in order, each starting no earlier than the one before ended;
+  moves, in order, each starting no earlier than the one before ended; a record whose `replans`
+  list is not empty (re-planning on drift: later plans took over) must instead start on the
+  plan's start, move to a 4-neighbour on a free cell each time, each move from where the last
+  ended, and end on the plan's goal (its path's last cell);
 - a move lasts exactly `ticks_per_move` ticks of progress: ticks within it on which its robot is
   held by one of its `delays` ([first tick, tick after]) do not count, and it cannot start on
   such a tick; a robot of a ring in `rings` (pairs [robot, move]) progresses only on ticks when
@@ -84,6 +87,7 @@ def check(map_path, plan_path, trace_path):
     agents = trace["agents"]
     if len(agents) != len(paths):
         fail(f"{len(agents)} robots executed, the plan has {len(paths)}")
+    replanned = bool(trace.get("replans"))
     planned = []
     for i, path in enumerate(paths):
         moves = []
@@ -113,13 +117,19 @@ def check(map_path, plan_path, trace_path):
     finish = []
     for i, agent in enumerate(agents):
         moves = agent["moves"]
-        if len(moves) != len(planned[i]):
+        if not replanned and len(moves) != len(planned[i]):
             fail(f"robot {i}: {len(moves)} moves executed, its plan has {len(planned[i])}")
         if tuple(agent["start"]) != tuple(paths[i][0]):
             fail(f"robot {i}: starts on {agent['start']}, its plan on {paths[i][0]}")
         last = 0
+        at = tuple(paths[i][0])
         for k, (a, b, frm, to) in enumerate(moves):
-            if (tuple(frm), tuple(to)) != planned[i][k]:
+            if replanned:
+                if tuple(frm) != at or abs(frm[0] - to[0]) + abs(frm[1] - to[1]) != 1 or not free(*to):
+                    fail(f"robot {i}, move {k}: {frm} -> {to} does not go on from {list(at)} "
+                         f"to a free neighbour")
+                at = tuple(to)
+            elif (tuple(frm), tuple(to)) != planned[i][k]:
                 fail(f"robot {i}, move {k}: {frm} -> {to}, the plan's is {planned[i][k]}")
             if a < last or b <= a:
                 fail(f"robot {i}, move {k}: ticks [{a}, {b}) overlap the move before")
@@ -133,6 +143,8 @@ def check(map_path, plan_path, trace_path):
                 if agents[r]["moves"][m][:2] != [a, b]:
                     fail(f"robot {i}, move {k}: its ring's moves do not share their ticks")
             last = b
+        if replanned and at != tuple(paths[i][-1]):
+            fail(f"robot {i}: ends on {list(at)}, its plan's goal is {paths[i][-1]}")
         finish.append(last)
     ticks = trace["ticks"]
     collisions = 0

@@ -51,6 +51,9 @@ pub struct ExecutionConfig {
     /// Robustness of the executed plans: each plan re-timed to be k-robust
     /// (`mrpp_exec::robust`; 0 = as planned).
     pub robust: Vec<u32>,
+    /// Re-planning on drift (`mrpp_exec::replan`): a robot this many ticks behind its plan's
+    /// timing makes the instance's planner plan again from where the robots are (0: never).
+    pub replan: Vec<u64>,
     /// Ticks per move (`agentCounter`).
     pub ticks_per_move: u32,
     /// Side of a robot's square (`agentSize`), cells.
@@ -69,6 +72,7 @@ pub struct ExecJob {
     pub delay: usize,
     pub executor: usize,
     pub robust: usize,
+    pub replan: usize,
     pub run: usize,
 }
 
@@ -82,6 +86,12 @@ pub struct ExecRow {
     pub executor: String,
     /// The plan was re-timed to be k-robust (0: as planned).
     pub k: u32,
+    /// Re-planning drift threshold in ticks (0: no re-planning).
+    #[serde(default)]
+    pub replan_drift: u64,
+    /// Plans that took over on drift.
+    #[serde(default)]
+    pub replans: usize,
     pub run: usize,
     pub seed: u64,
     /// `finished`, `deadlock`, `tick_limit`, or `unsolved` (the planner found no plan).
@@ -121,9 +131,10 @@ impl ExecutionSweep {
             || cfg.planners.is_empty()
             || cfg.delays.is_empty()
             || cfg.robust.is_empty()
+            || cfg.replan.is_empty()
         {
             return Err(Error::Param(
-                "give at least one planner, delay probability, robustness and executor".into(),
+                "give at least one planner, delay probability, robustness, re-planning drift and executor".into(),
             ));
         }
         for &p in &cfg.delays {
@@ -162,16 +173,19 @@ impl ExecutionSweep {
             for planner in 0..cfg.planners.len() {
                 for delay in 0..cfg.delays.len() {
                     for robust in 0..cfg.robust.len() {
-                        for executor in 0..cfg.executors.len() {
-                            for run in 0..cfg.runs {
-                                jobs.push(ExecJob {
-                                    instance,
-                                    planner,
-                                    delay,
-                                    executor,
-                                    robust,
-                                    run,
-                                });
+                        for replan in 0..cfg.replan.len() {
+                            for executor in 0..cfg.executors.len() {
+                                for run in 0..cfg.runs {
+                                    jobs.push(ExecJob {
+                                        instance,
+                                        planner,
+                                        delay,
+                                        executor,
+                                        robust,
+                                        replan,
+                                        run,
+                                    });
+                                }
                             }
                         }
                     }
@@ -262,8 +276,13 @@ impl Sweep for ExecutionSweep {
         &self.jobs
     }
     fn key(&self, j: &ExecJob) -> String {
+        // Without re-planning the key is the one of earlier versions (resumable outputs).
+        let replan = match self.cfg.replan[j.replan] {
+            0 => String::new(),
+            d => format!("/r{d}"),
+        };
         format!(
-            "{}/{}/p{}/k{}/{}/{}",
+            "{}/{}/p{}/k{}{replan}/{}/{}",
             self.problems[j.instance].0,
             self.cfg.planners[j.planner],
             self.cfg.delays[j.delay],
@@ -288,6 +307,8 @@ impl Sweep for ExecutionSweep {
             p_delay: p,
             executor: executor.name().into(),
             k: self.cfg.robust[j.robust],
+            replan_drift: self.cfg.replan[j.replan],
+            replans: 0,
             run: j.run,
             seed,
             status: "unsolved".into(),
@@ -331,9 +352,43 @@ impl Sweep for ExecutionSweep {
             max_ticks: 10_000_000,
         };
         let started = std::time::Instant::now();
-        let run = execute(map, plan, &cfg);
+        let (run, executed) = if row.replan_drift == 0 {
+            (execute(map, plan, &cfg), plan.clone())
+        } else {
+            let p = planner(&self.cfg.planners[j.planner])?;
+            let mut calls = 0u64;
+            let goals = &problem.instance().goals;
+            let mut replan = |at: &[mrpp_core::mapf::graph::VertexId]| {
+                calls += 1;
+                let instance =
+                    mrpp_core::mapf::instance::Instance::new(at.to_vec(), goals.clone()).ok()?;
+                let from = MapfProblem::new(problem.graph_arc().clone(), instance, problem.rules())
+                    .ok()?;
+                let ctx = Ctx::new(
+                    derive_seed(seed, &format!("replan/{calls}")),
+                    Deadline::after(self.cfg.time_limit),
+                );
+                solve(p.as_ref(), &from, &ctx).ok().map(|s| s.plan)
+            };
+            let replanning = mrpp_exec::Replanning {
+                drift: row.replan_drift,
+                planner: &mut replan,
+            };
+            mrpp_exec::execute_replanning(map, plan, &cfg, Some(replanning))
+        };
         row.wall_ms = started.elapsed().as_secs_f64() * 1e3;
-        check(map, plan, &run, cfg.ticks_per_move, cfg.agent_size).map_err(|e| {
+        row.replans = run.metrics.replans;
+        // Under the ADG the executed plan is valid (`mrpp_exec::replan`); the naive executor may
+        // have broken it.
+        if executor == ExecutorKind::Adg {
+            mrpp_core::Problem::validate(problem, &executed).map_err(|v| {
+                Error::Internal(format!(
+                    "{}: the executed plan is invalid: {v}",
+                    self.key(j)
+                ))
+            })?;
+        }
+        check(map, &executed, &run, cfg.ticks_per_move, cfg.agent_size).map_err(|e| {
             Error::Internal(format!(
                 "{}: the execution does not replay: {e}",
                 self.key(j)
@@ -404,6 +459,8 @@ fn results_csv(rows: &[&ExecRow]) -> Result<String> {
         "p_delay",
         "executor",
         "k",
+        "replan_drift",
+        "replans",
         "run",
         "seed",
         "status",
@@ -425,6 +482,8 @@ fn results_csv(rows: &[&ExecRow]) -> Result<String> {
             r.p_delay.to_string(),
             r.executor.clone(),
             r.k.to_string(),
+            r.replan_drift.to_string(),
+            r.replans.to_string(),
             r.run.to_string(),
             r.seed.to_string(),
             r.status.clone(),
@@ -452,6 +511,7 @@ fn groups<'a>(rows: &[&'a ExecRow]) -> Vec<Vec<&'a ExecRow>> {
                 && f.planner == r.planner
                 && f.executor == r.executor
                 && f.k == r.k
+                && f.replan_drift == r.replan_drift
                 && f.p_delay == r.p_delay
         }) {
             Some(g) => g.push(r),
@@ -470,15 +530,17 @@ fn mean(xs: impl Iterator<Item = f64>) -> f64 {
 /// collisions, mean executed / planned makespan and sum of costs (finished runs).
 fn table(rows: &[&ExecRow]) -> String {
     let mut out = String::from(
-        "| instance | planner | k-robust | executor | p | runs | collided | deadlocks | collisions (mean) | makespan / planned | sum of costs / planned |\n|---|---|---|---|---|---|---|---|---|---|---|\n",
+        "| instance | planner | k-robust | re-plan drift | executor | p | runs | collided | deadlocks | collisions (mean) | re-plans (mean) | makespan / planned | sum of costs / planned |\n|---|---|---|---|---|---|---|---|---|---|---|---|---|\n",
     );
     for g in groups(rows) {
         let f = g[0];
         if f.status == "unsolved" {
             out.push_str(&format!(
-                "| {} | {} | {} | {} | {} | (no plan) | | | | |\n",
+                "| {} | {} | {} | {} | {} | {} | {} (no plan) | | | | | | |\n",
                 f.instance,
                 f.planner,
+                f.k,
+                drift(f),
                 f.executor,
                 f.p_delay,
                 g.len()
@@ -489,10 +551,11 @@ fn table(rows: &[&ExecRow]) -> String {
         let deadlocks = g.iter().filter(|r| r.status == "deadlock").count();
         let done: Vec<&&ExecRow> = g.iter().filter(|r| r.status == "finished").collect();
         out.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {} | {} ({:.0}%) | {} | {:.1} | {:.3} | {:.3} |\n",
+            "| {} | {} | {} | {} | {} | {} | {} | {} ({:.0}%) | {} | {:.1} | {:.1} | {:.3} | {:.3} |\n",
             f.instance,
             f.planner,
             f.k,
+            drift(f),
             f.executor,
             f.p_delay,
             g.len(),
@@ -500,6 +563,7 @@ fn table(rows: &[&ExecRow]) -> String {
             100.0 * collided as f64 / g.len() as f64,
             deadlocks,
             mean(g.iter().map(|r| r.collisions as f64)),
+            mean(g.iter().map(|r| r.replans as f64)),
             mean(done.iter().map(|r| r.makespan_ratio)),
             mean(done.iter().map(|r| r.sum_of_costs_ratio)),
         ));
@@ -532,13 +596,24 @@ fn page(sweep: &ExecutionSweep, rows: &[&ExecRow], m: &Manifest) -> String {
     )
 }
 
-/// A figure line's name: planner, robustness (when re-timed), executor.
-fn name(r: &ExecRow) -> String {
-    if r.k == 0 {
-        format!("{} {}", r.planner, r.executor)
-    } else {
-        format!("{} {}-robust {}", r.planner, r.k, r.executor)
+/// A re-planning drift threshold as the table shows it (`-` for none).
+fn drift(r: &ExecRow) -> String {
+    match r.replan_drift {
+        0 => "-".into(),
+        d => d.to_string(),
     }
+}
+
+/// A figure line's name: planner, robustness (when re-timed), re-planning (when on), executor.
+fn name(r: &ExecRow) -> String {
+    let mut n = r.planner.clone();
+    if r.k > 0 {
+        n += &format!(" {}-robust", r.k);
+    }
+    if r.replan_drift > 0 {
+        n += &format!(" re-plan@{}", r.replan_drift);
+    }
+    format!("{n} {}", r.executor)
 }
 
 /// Three panels over the delay probability: runs with a collision (%), executed makespan over

@@ -2,7 +2,9 @@
 //! ([`mrpp_exec`]; issue 29, item 3), checked by the executed-record validator, written as an
 //! `mrpp-execution/1` record.
 //!
-//! The record: `{"format": "mrpp-execution/1", "plan", "executor", "delays", "seed",
+//! The record: `{"format": "mrpp-execution/1", "plan", "executor", "k_robust", "replan_drift",
+//! "replans" (ticks at which a re-plan took over; the agents' moves are then the executed plan's),
+//! "delays", "seed",
 //! "ticks_per_move", "agent_size", "ending", "metrics", "rings", "collisions" (the first 100),
 //! "agents": [{"start": [x, y], "moves": [[first tick, tick after, [x, y], [x, y]], ...],
 //! "delays": [[first tick, tick after], ...]}]}`; ticks from 0, cells as `[x, y]`.
@@ -30,6 +32,22 @@ pub(crate) struct ExecuteArgs {
     /// kept; 0 = as planned. It matters to the naive executor (the ADG keeps the order anyway).
     #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
     k_robust: i64,
+    /// Re-plan when a robot is this many ticks behind its plan's timing: the re-planner plans
+    /// again from where the robots will stand once their moves in progress are done, and its
+    /// plan takes over (mrpp_exec::replan; planning is charged no ticks). Default: never.
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::output::parse_count)]
+    replan_drift: Option<usize>,
+    /// The grid planner that re-plans (`mrpp planners --family grid`).
+    #[arg(long, default_value = "lacam", requires = "replan_drift")]
+    replan_planner: String,
+    /// Planning time per re-plan, seconds.
+    #[arg(
+        long,
+        default_value_t = 1.0,
+        allow_negative_numbers = true,
+        requires = "replan_drift"
+    )]
+    replan_time_limit: f64,
     /// The delays' seed.
     #[arg(short = 's', long, default_value_t = 0, allow_negative_numbers = true, value_parser = crate::output::parse_seed)]
     seed: u64,
@@ -80,7 +98,53 @@ pub(crate) fn execute(a: &ExecuteArgs) -> Result<u8, Fail> {
         // Generous: the plan's length x ticks, with room for every robot to be held often.
         max_ticks: (makespan + 1) * u64::from(ticks_per_move) * 50 + 100_000,
     };
-    let run = mrpp_exec::execute(&map, &plan, &cfg);
+    let (run, plan) = if let Some(drift) = a.replan_drift {
+        let entry = mrpp_grid::PLANNERS
+            .iter()
+            .find(|e| e.name == a.replan_planner)
+            .ok_or_else(|| {
+                let known: Vec<&str> = mrpp_grid::PLANNERS.iter().map(|e| e.name).collect();
+                Fail(format!(
+                    "--replan-planner {}: not a grid planner (known: {})",
+                    a.replan_planner,
+                    known.join(", ")
+                ))
+            })?;
+        let planner = entry.instantiate(&[]).map_err(|e| Fail(e.to_string()))?;
+        let budget = crate::output::seconds("replan-time-limit", a.replan_time_limit)?;
+        let goals = problem.instance().goals.clone();
+        let mut calls = 0u64;
+        let mut replan = |at: &[mrpp_core::mapf::graph::VertexId]| {
+            calls += 1;
+            let instance =
+                mrpp_core::mapf::instance::Instance::new(at.to_vec(), goals.clone()).ok()?;
+            let from =
+                mrpp_core::MapfProblem::new(problem.graph_arc().clone(), instance, problem.rules())
+                    .ok()?;
+            let ctx = mrpp_core::Ctx::new(
+                mrpp_core::seeds::derive_seed(a.seed, &format!("replan/{calls}")),
+                mrpp_core::Deadline::after(budget),
+            );
+            mrpp_core::solve(planner.as_ref(), &from, &ctx)
+                .ok()
+                .map(|s| s.plan)
+        };
+        let replanning = mrpp_exec::Replanning {
+            drift: drift as u64,
+            planner: &mut replan,
+        };
+        mrpp_exec::execute_replanning(&map, &plan, &cfg, Some(replanning))
+    } else {
+        (mrpp_exec::execute(&map, &plan, &cfg), plan)
+    };
+    if executor == ExecutorKind::Adg {
+        mrpp_core::Problem::validate(&problem, &plan).map_err(|v| {
+            Fail(format!(
+                "the executed plan of {} is not valid (a bug in mrpp): {v}",
+                a.plan.display()
+            ))
+        })?;
+    }
     let replayed = check(&map, &plan, &run, ticks_per_move, agent_size).map_err(|e| {
         Fail(format!(
             "the executed record does not replay (a bug in mrpp): {e}"
@@ -116,6 +180,8 @@ pub(crate) fn execute(a: &ExecuteArgs) -> Result<u8, Fail> {
         "plan": file_name(&a.plan),
         "executor": executor.name(),
         "k_robust": k,
+        "replan_drift": a.replan_drift,
+        "replans": run.replans,
         "delays": cfg.delays.spec(),
         "seed": a.seed,
         "ticks_per_move": ticks_per_move,
@@ -130,10 +196,14 @@ pub(crate) fn execute(a: &ExecuteArgs) -> Result<u8, Fail> {
     write_atomic(&a.out, serde_json::to_string(&record).expect("json") + "\n")?;
     let m = run.metrics;
     say!(
-        "mrpp {} | execute {} | {} | delays {} | {} ticks per move | seed {} | makespan {} ticks ({:.3}x planned), sum of costs {} ({:.3}x) | {} ticks lost to delays, {} waits added | {} collisions | written to {}",
+        "mrpp {} | execute {} | {}{} | delays {} | {} ticks per move | seed {} | makespan {} ticks ({:.3}x planned), sum of costs {} ({:.3}x) | {} ticks lost to delays, {} waits added | {} collisions | written to {}",
         env!("CARGO_PKG_VERSION"),
         file_name(&a.plan),
         executor.name(),
+        a.replan_drift.map_or_else(String::new, |d| format!(
+            " + re-planning by {} at {d} ticks of drift ({} re-plans, {} found nothing)",
+            a.replan_planner, m.replans, m.failed_replans
+        )),
         cfg.delays.spec(),
         ticks_per_move,
         a.seed,

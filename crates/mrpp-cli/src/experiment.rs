@@ -116,6 +116,11 @@ pub struct ExecutionArgs {
     /// robot enters a cell another left fewer than k steps earlier (Atzmon et al., JAIR 2020).
     #[arg(long, value_delimiter = ',', default_value = "0,2")]
     robust: Vec<u32>,
+    /// Re-planning on drift (comma-separated drift thresholds in ticks; 0 = never): when a robot
+    /// is this many ticks behind its plan's timing, the run's planner plans again from where the
+    /// robots stand (planning charged no ticks; mrpp_exec::replan).
+    #[arg(long, value_delimiter = ',', default_value = "0")]
+    replan: Vec<u64>,
     /// Ticks per move (the League's agentCounter).
     #[arg(long, default_value_t = 3, allow_negative_numbers = true, value_parser = crate::output::parse_count)]
     ticks_per_move: usize,
@@ -474,6 +479,7 @@ pub fn run(cmd: Experiment, merge: Option<Mode>) -> Result<u8, Fail> {
                 max_delay: ticks(a.max_delay, "max-delay")?,
                 executors,
                 robust: a.robust.clone(),
+                replan: a.replan.clone(),
                 ticks_per_move: ticks(a.ticks_per_move, "ticks-per-move")?,
                 agent_size: a.agent_size,
                 runs: a.runs,

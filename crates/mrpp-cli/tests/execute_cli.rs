@@ -187,6 +187,8 @@ fn the_execution_experiment_sweeps_delays_and_executors() {
         "0,0.05",
         "--runs",
         "3",
+        "--replan",
+        "0,20",
         "--jobs",
         "1",
         "-o",
@@ -207,22 +209,32 @@ fn the_execution_experiment_sweeps_delays_and_executors() {
         .skip(1)
         .map(|l| l.split(',').collect())
         .collect();
-    // planner, p, executor, k, status, collisions: columns 2, 3, 4, 5, 8, 9.
+    // planner, p, executor, k, replan_drift, replans, status, collisions: columns 2, 3, 4, 5,
+    // 6, 7, 10, 11.
     assert_eq!(
         rows.len(),
-        2 * 2 * 2 * 2 * 3,
-        "planners x p x k x executors x runs"
+        2 * 2 * 2 * 2 * 2 * 3,
+        "planners x p x k x re-planning x executors x runs"
     );
     for r in &rows {
-        assert_eq!(r[8], "finished", "{r:?}");
+        assert_eq!(r[10], "finished", "{r:?}");
         if r[4] == "adg" || r[3] == "0" {
-            assert_eq!(r[9], "0", "adg, or no delay at all, never collides: {r:?}");
+            assert_eq!(r[11], "0", "adg, or no delay at all, never collides: {r:?}");
+        }
+        if r[6] == "0" || r[3] == "0" {
+            assert_eq!(r[7], "0", "no re-planning without drift: {r:?}");
         }
     }
+    let replans: usize = rows
+        .iter()
+        .filter(|r| r[4] == "adg" && r[3] == "0.05" && r[6] == "20")
+        .map(|r| r[7].parse::<usize>().unwrap())
+        .sum();
+    assert!(replans > 0, "drift of 20 ticks at p = 0.05 re-plans");
     let collisions = |k: &str| -> usize {
         rows.iter()
-            .filter(|r| r[4] == "naive" && r[3] == "0.05" && r[5] == k)
-            .map(|r| r[9].parse::<usize>().unwrap())
+            .filter(|r| r[4] == "naive" && r[3] == "0.05" && r[5] == k && r[6] == "0")
+            .map(|r| r[11].parse::<usize>().unwrap())
             .sum()
     };
     assert!(
@@ -303,5 +315,69 @@ fn a_k_robust_plan_collides_less_when_executed_naively() {
     assert_eq!(code, Some(1));
     assert!(err.contains("--k-robust -1: expected 0 to 1000"), "{err}");
     assert!(!dir.join("bad.json").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}
+
+#[test]
+fn replanning_on_drift_takes_over_and_the_checker_accepts_the_record() {
+    let dir = std::env::temp_dir().join(format!("mrpp-execute-replan-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let plan = dir.join("plan.json");
+    let scen = "data/movingai/random-32-32-20-random-1.scen";
+    let (code, err) = mrpp(&[
+        "solve",
+        "-m",
+        MAP,
+        "-i",
+        scen,
+        "-N",
+        "60",
+        "-P",
+        "lacam",
+        "-o",
+        plan.to_str().unwrap(),
+    ]);
+    assert_eq!(code, Some(0), "{err}");
+    let delays = [
+        "--delays",
+        "bernoulli:p=0.02,min=1,max=10",
+        "--ticks-per-move",
+        "3",
+    ];
+    let out = dir.join("replanned.json");
+    let mut args = delays.to_vec();
+    args.extend([
+        "--agent-size",
+        "0.5",
+        "--replan-drift",
+        "20",
+        "--replan-planner",
+        "eecbs",
+    ]);
+    let (code, err) = execute(&plan, &out, &args);
+    assert_eq!(code, Some(0), "{err}");
+    let record: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(record["replan_drift"], 20);
+    let replans = record["replans"].as_array().unwrap();
+    assert!(!replans.is_empty(), "{record}");
+    assert_eq!(record["metrics"]["replans"], replans.len());
+    assert_eq!(record["metrics"]["collisions"], 0);
+    if let Some(v) = checker(&plan, &out) {
+        assert_eq!(v["valid"], true, "{v}");
+        assert_eq!(v["makespan"], record["metrics"]["makespan"], "{v}");
+    }
+    // An unknown re-planner: exit 1, nothing written.
+    let bad = dir.join("bad.json");
+    let mut args = delays.to_vec();
+    args.extend(["--replan-drift", "20", "--replan-planner", "fastest"]);
+    let (code, err) = execute(&plan, &bad, &args);
+    assert_eq!(code, Some(1), "{err}");
+    assert!(
+        err.contains("--replan-planner fastest: not a grid planner"),
+        "{err}"
+    );
+    assert!(!bad.exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }

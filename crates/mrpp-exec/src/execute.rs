@@ -35,6 +35,7 @@ use serde::Serialize;
 use crate::adg::Adg;
 use crate::check::OverlapGrid;
 use crate::delays::{DelayConfig, DelayGenerator};
+use crate::replan::Replanning;
 
 /// Who decides when a robot starts its next move (module doc).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -110,6 +111,8 @@ pub struct Execution {
     pub collisions: Vec<Collision>,
     /// Rings executed jointly (`adg`; module doc): `(robot, move)` pairs.
     pub rotations: Vec<Vec<(usize, usize)>>,
+    /// Ticks at which a re-plan took over (re-planning on drift).
+    pub replans: Vec<u64>,
     pub metrics: ExecMetrics,
 }
 
@@ -132,6 +135,10 @@ pub struct ExecMetrics {
     /// the plan's time (`naive`) beyond the plan's own waits.
     pub waits_added: u64,
     pub collisions: usize,
+    /// Plans that took over from the one before (re-planning on drift; 0 without it).
+    pub replans: usize,
+    /// Re-planning attempts whose planner found no plan (the execution went on with its plan).
+    pub failed_replans: usize,
 }
 
 /// Cell centres of the map's vertices.
@@ -142,14 +149,11 @@ fn centre(map: &GridMap, v: VertexId) -> [f64; 2] {
 
 /// Executes `plan` on `map` (module doc).
 pub fn execute(map: &GridMap, plan: &Plan, cfg: &ExecConfig) -> Execution {
-    let adg = Adg::new(plan);
-    let n = plan.paths.len();
-    let rotations = if cfg.executor == ExecutorKind::Adg {
-        adg.rotation_cycles()
-    } else {
-        Vec::new()
-    };
-    // The ring each (robot, move) belongs to, if any: `ring_of[i][k]`.
+    execute_replanning(map, plan, cfg, None).0
+}
+
+/// The ring of each `(robot, move)` of `rotations`, `usize::MAX` for none.
+fn rings_of(adg: &Adg, rotations: &[Vec<(usize, usize)>]) -> Vec<Vec<usize>> {
     let mut ring_of: Vec<Vec<usize>> = adg
         .moves
         .iter()
@@ -160,7 +164,46 @@ pub fn execute(map: &GridMap, plan: &Plan, cfg: &ExecConfig) -> Execution {
             ring_of[i][k] = g;
         }
     }
-    let ring = |i: usize, k: usize| ring_of[i].get(k).copied().filter(|&g| g != usize::MAX);
+    ring_of
+}
+
+/// Executes `plan` on `map` (module doc), re-planning when the execution drifts from its plan
+/// if `replanning` says how ([`crate::replan`]). Returns the execution and the plan its record
+/// follows: `plan` itself without re-planning, else `plan`'s executed prefix, then each later
+/// plan's executed prefix, then the last plan whole (the record's moves are that plan's moves,
+/// waits dropped; [`crate::check::check`] replays the record against it).
+pub fn execute_replanning(
+    map: &GridMap,
+    plan: &Plan,
+    cfg: &ExecConfig,
+    mut replanning: Option<Replanning<'_>>,
+) -> (Execution, Plan) {
+    let n = plan.paths.len();
+    let mut cur = plan.clone();
+    let mut executed = plan.clone();
+    // `executed`'s path index at which `cur` starts.
+    let mut offset = 0usize;
+    let mut adg = Adg::new(&cur);
+    let joint = |adg: &Adg| {
+        if cfg.executor == ExecutorKind::Adg {
+            adg.rotation_cycles()
+        } else {
+            Vec::new()
+        }
+    };
+    let mut rotations = joint(&adg);
+    let mut ring_of = rings_of(&adg, &rotations);
+    let ring = |ring_of: &[Vec<usize>], i: usize, k: usize| {
+        ring_of[i].get(k).copied().filter(|&g| g != usize::MAX)
+    };
+    // Rings of finished segments, as `(robot, move of the whole record)`.
+    let mut all_rings: Vec<Vec<(usize, usize)>> = Vec::new();
+    // Moves recorded before the current plan took over.
+    let mut base = vec![0usize; n];
+    // The tick at which the current plan took over (its step 0).
+    let mut t0 = 0u64;
+    let mut retry_at = 0u64;
+    let (mut replans, mut failed_replans) = (Vec::new(), 0usize);
     let mut grid = OverlapGrid::new(map.width(), map.height());
     let (mut busy, mut finished) = (vec![false; n], vec![0usize; n]);
     let centres: Vec<[f64; 2]> = (0..map.graph().num_vertices() as VertexId)
@@ -169,7 +212,7 @@ pub fn execute(map: &GridMap, plan: &Plan, cfg: &ExecConfig) -> Execution {
     let mut points = Vec::with_capacity(n);
     let c = u64::from(cfg.ticks_per_move.max(1));
     let mut delays = DelayGenerator::new(cfg.delays.clone(), n, cfg.seed);
-    // Per robot: moves done, the move in progress and its progress.
+    // Per robot: moves of the current plan done, the move in progress and its progress.
     let mut done = vec![0usize; n];
     let mut progress: Vec<Option<u64>> = vec![None; n];
     let mut record: Vec<Vec<[u64; 2]>> = adg
@@ -184,7 +227,7 @@ pub fn execute(map: &GridMap, plan: &Plan, cfg: &ExecConfig) -> Execution {
         .iter()
         .map(|m| m.last().map_or(0, |l| (u64::from(l.step) + 1) * c))
         .collect();
-    let starts: Vec<VertexId> = plan
+    let mut starts: Vec<VertexId> = cur
         .paths
         .iter()
         .map(|p| p.first().copied().unwrap_or(0))
@@ -196,6 +239,65 @@ pub fn execute(map: &GridMap, plan: &Plan, cfg: &ExecConfig) -> Execution {
         }
         if tick >= cfg.max_ticks {
             break Ending::TickLimit;
+        }
+        // Drift: a robot that should have started its next move more than `drift` ticks ago.
+        if let Some(r) = replanning.as_mut().filter(|_| tick >= retry_at) {
+            let lags = (0..n).any(|i| {
+                progress[i].is_none()
+                    && done[i] < adg.moves[i].len()
+                    && tick > t0 + u64::from(adg.moves[i][done[i]].step) * c + r.drift
+            });
+            if lags {
+                // Where each robot will stand once its move in progress is done.
+                let at: Vec<VertexId> = (0..n)
+                    .map(|i| match (progress[i], done[i]) {
+                        (Some(_), k) => adg.moves[i][k].to,
+                        (None, 0) => starts[i],
+                        (None, k) => adg.moves[i][k - 1].to,
+                    })
+                    .collect();
+                match (r.planner)(&at).filter(|p| {
+                    p.paths.len() == n
+                        && p.paths.iter().zip(&at).all(|(p, &v)| p.first() == Some(&v))
+                }) {
+                    Some(mut next) => {
+                        // Moves in progress become the new plan's first step (the others wait
+                        // it out), so its ADG orders them before any move into their cells.
+                        if progress.iter().any(Option::is_some) {
+                            for (i, path) in next.paths.iter_mut().enumerate() {
+                                let from = match progress[i] {
+                                    Some(_) => adg.moves[i][done[i]].from,
+                                    None => path[0],
+                                };
+                                path.insert(0, from);
+                            }
+                        }
+                        all_rings.extend(
+                            rotations
+                                .iter()
+                                .filter(|r| r.iter().all(|&(i, k)| k < done[i]))
+                                .map(|r| r.iter().map(|&(i, k)| (i, base[i] + k)).collect()),
+                        );
+                        offset = crate::replan::cut(&mut executed, offset, &cur, &done);
+                        crate::replan::append(&mut executed, &next);
+                        for i in 0..n {
+                            base[i] += done[i];
+                            done[i] = 0;
+                        }
+                        cur = next;
+                        adg = Adg::new(&cur);
+                        rotations = joint(&adg);
+                        ring_of = rings_of(&adg, &rotations);
+                        starts = cur.paths.iter().map(|p| p[0]).collect();
+                        t0 = tick;
+                        replans.push(tick);
+                    }
+                    None => {
+                        failed_replans += 1;
+                        retry_at = tick + r.drift.max(1);
+                    }
+                }
+            }
         }
         delays.next_tick();
         let mut moved = false;
@@ -219,7 +321,7 @@ pub fn execute(map: &GridMap, plan: &Plan, cfg: &ExecConfig) -> Execution {
                 lost += 1;
                 continue;
             }
-            if ring(i, done[i]).is_some_and(|g| paused[g]) {
+            if ring(&ring_of, i, done[i]).is_some_and(|g| paused[g]) {
                 held_any = true;
                 waits += 1;
                 continue;
@@ -261,14 +363,15 @@ pub fn execute(map: &GridMap, plan: &Plan, cfg: &ExecConfig) -> Execution {
                 continue;
             }
             let k = done[i];
-            let go = match (cfg.executor, ring(i, k)) {
+            let planned = t0 + u64::from(adg.moves[i][k].step) * c;
+            let go = match (cfg.executor, ring(&ring_of, i, k)) {
                 (ExecutorKind::Adg, Some(g)) => starting[g],
                 (ExecutorKind::Adg, None) => adg.deps[i][k].iter().all(|&(j, m)| finished[j] > m),
-                (ExecutorKind::Naive, _) => tick >= u64::from(adg.moves[i][k].step) * c,
+                (ExecutorKind::Naive, _) => tick >= planned,
             };
             if !go {
                 // Beyond the plan's own waits: the plan would have this move under way by now.
-                if tick >= u64::from(adg.moves[i][k].step) * c {
+                if tick >= planned {
                     waits += 1;
                 }
                 continue;
@@ -288,6 +391,12 @@ pub fn execute(map: &GridMap, plan: &Plan, cfg: &ExecConfig) -> Execution {
             break Ending::Deadlock { tick: tick - 1 };
         }
     };
+    // The current plan is the executed plan's end, its rings all in it (executed or not).
+    all_rings.extend(
+        rotations
+            .iter()
+            .map(|r| r.iter().map(|&(i, k)| (i, base[i] + k)).collect()),
+    );
     let finish: Vec<u64> = record
         .iter()
         .map(|r| r.last().map_or(0, |m| m[1]))
@@ -297,7 +406,7 @@ pub fn execute(map: &GridMap, plan: &Plan, cfg: &ExecConfig) -> Execution {
     let planned_makespan = planned_finish.iter().copied().max().unwrap_or(0);
     let planned_soc: u64 = planned_finish.iter().sum();
     let ratio = |a: u64, b: u64| if b == 0 { 1.0 } else { a as f64 / b as f64 };
-    Execution {
+    let execution = Execution {
         metrics: ExecMetrics {
             makespan,
             sum_of_costs: soc,
@@ -308,14 +417,18 @@ pub fn execute(map: &GridMap, plan: &Plan, cfg: &ExecConfig) -> Execution {
             ticks_lost_to_delays: lost,
             waits_added: waits,
             collisions: collisions.len(),
+            replans: replans.len(),
+            failed_replans,
         },
         moves: record,
         delays: delays.intervals,
         ticks: tick,
         ending,
         collisions,
-        rotations,
-    }
+        rotations: all_rings,
+        replans,
+    };
+    (execution, executed)
 }
 
 /// Every robot's point at the end of a tick, into `out` (`centres` of the map's vertices).

@@ -11,8 +11,10 @@ pub mod adg;
 pub mod check;
 pub mod delays;
 pub mod execute;
+pub mod replan;
 pub mod robust;
 
 pub use adg::Adg;
 pub use delays::{DelayConfig, DelayGenerator};
-pub use execute::{ExecConfig, Execution, ExecutorKind, execute};
+pub use execute::{ExecConfig, Execution, ExecutorKind, execute, execute_replanning};
+pub use replan::Replanning;

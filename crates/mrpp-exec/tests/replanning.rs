@@ -1,0 +1,145 @@
+//! Re-planning on drift (issue 29, item 5; `mrpp_exec::replan`): under every delay model, ADG
+//! execution with LaCAM re-planning never collides, always finishes, its record replays against
+//! the executed plan, and that executed plan (the prefixes of every plan, then the last) is a
+//! valid plan of the original problem. A re-planner that finds nothing leaves the execution
+//! exactly as without re-planning.
+
+use std::path::Path;
+use std::time::Duration;
+
+use mrpp_core::mapf::graph::VertexId;
+use mrpp_core::mapf::instance::Instance;
+use mrpp_core::mapf::plan::Plan;
+use mrpp_core::{Ctx, Deadline, MapfProblem, Problem, solve};
+use mrpp_exec::execute::Ending;
+use mrpp_exec::{
+    DelayConfig, ExecConfig, ExecutorKind, Replanning, check::check, execute, execute_replanning,
+};
+use mrpp_grid::PLANNERS;
+
+fn data(rel: &str) -> std::path::PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../data/movingai")
+        .join(rel)
+}
+
+const SIZE: f64 = 0.5;
+
+fn lacam(problem: &MapfProblem, seed: u64) -> Option<Plan> {
+    let entry = PLANNERS.iter().find(|e| e.name == "lacam").unwrap();
+    let planner = entry.instantiate(&[]).unwrap();
+    let ctx = Ctx::new(seed, Deadline::after(Duration::from_secs(5)));
+    solve(planner.as_ref(), problem, &ctx).ok().map(|s| s.plan)
+}
+
+#[test]
+fn adg_with_replanning_stays_collision_free_and_its_executed_plan_is_valid() {
+    let (grid, problem) = mrpp_grid::load_problem(
+        &data("random-32-32-20.map"),
+        &data("random-32-32-20-random-1.scen"),
+        Some(60),
+    )
+    .unwrap();
+    let plan = lacam(&problem, 0).unwrap();
+    let goals = problem.instance().goals.clone();
+    let models = [
+        "bernoulli:p=0.02,min=1,max=4",
+        "poisson:p=0.01,min=2,max=8,duration=gaussian,mean=0.5,std=0.22",
+        "bernoulli:p=0.05,min=5,max=20",
+    ];
+    let (mut runs, mut replans) = (0, 0);
+    let (mut plain_sum, mut replanned_sum) = (0u64, 0u64);
+    for spec in models {
+        for counter in [1, 3] {
+            for drift in [4, 16] {
+                for seed in 0..8u64 {
+                    let cfg = ExecConfig {
+                        executor: ExecutorKind::Adg,
+                        ticks_per_move: counter,
+                        delays: DelayConfig::parse(spec).unwrap(),
+                        seed,
+                        agent_size: SIZE,
+                        max_ticks: 1_000_000,
+                    };
+                    let mut calls = 0u64;
+                    let mut planner = |at: &[VertexId]| {
+                        calls += 1;
+                        let instance = Instance::new(at.to_vec(), goals.clone()).ok()?;
+                        let p = MapfProblem::new(
+                            problem.graph_arc().clone(),
+                            instance,
+                            problem.rules(),
+                        )
+                        .ok()?;
+                        lacam(&p, calls)
+                    };
+                    let (run, executed) = execute_replanning(
+                        &grid,
+                        &plan,
+                        &cfg,
+                        Some(Replanning {
+                            drift,
+                            planner: &mut planner,
+                        }),
+                    );
+                    let what = format!("{spec} x{counter} drift {drift} seed {seed}");
+                    assert_eq!(run.ending, Ending::Finished, "{what}");
+                    assert!(run.collisions.is_empty(), "{what}: {:?}", run.collisions[0]);
+                    problem
+                        .validate(&executed)
+                        .unwrap_or_else(|v| panic!("{what}: executed plan invalid: {v}"));
+                    let replayed = check(&grid, &executed, &run, counter, SIZE)
+                        .unwrap_or_else(|e| panic!("{what}: {e}"));
+                    assert!(replayed.is_empty(), "{what}");
+                    assert_eq!(run.metrics.replans, run.replans.len());
+                    runs += 1;
+                    replans += run.metrics.replans;
+                    plain_sum += execute(&grid, &plan, &cfg).metrics.makespan;
+                    replanned_sum += run.metrics.makespan;
+                }
+            }
+        }
+    }
+    eprintln!(
+        "{runs} runs, {replans} re-plans; executed makespan summed: ADG {plain_sum}, ADG + re-planning {replanned_sum}"
+    );
+    assert!(
+        replans > runs,
+        "re-planning hardly ever triggered ({replans} in {runs} runs): the test checks little"
+    );
+}
+
+#[test]
+fn a_replanner_that_finds_nothing_leaves_the_execution_unchanged() {
+    let (grid, problem) = mrpp_grid::load_problem(
+        &data("random-32-32-20.map"),
+        &data("random-32-32-20-random-1.scen"),
+        Some(40),
+    )
+    .unwrap();
+    let plan = lacam(&problem, 0).unwrap();
+    let cfg = ExecConfig {
+        executor: ExecutorKind::Adg,
+        ticks_per_move: 2,
+        delays: DelayConfig::parse("bernoulli:p=0.05,min=2,max=6").unwrap(),
+        seed: 3,
+        agent_size: SIZE,
+        max_ticks: 1_000_000,
+    };
+    let plain = execute(&grid, &plan, &cfg);
+    let mut nothing = |_: &[VertexId]| None;
+    let (run, executed) = execute_replanning(
+        &grid,
+        &plan,
+        &cfg,
+        Some(Replanning {
+            drift: 3,
+            planner: &mut nothing,
+        }),
+    );
+    assert_eq!(executed.paths, plan.paths);
+    assert_eq!(run.moves, plain.moves);
+    assert_eq!(run.delays, plain.delays);
+    assert_eq!(run.metrics.replans, 0);
+    assert!(run.metrics.failed_replans > 0);
+}
