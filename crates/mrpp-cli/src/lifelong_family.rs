@@ -19,7 +19,7 @@ use mrpp_lifelong::execution::ExecutionModel;
 use mrpp_lifelong::executor::ExecutorKind;
 use mrpp_lifelong::lorr_output::{from_json, model_of, to_json};
 use mrpp_lifelong::problem::{DEFAULT_PREPROCESS_TIME, DEFAULT_STEP_TIME, DEFAULT_STEPS};
-use mrpp_lifelong::scheduler::SchedulerKind;
+use mrpp_lifelong::scheduler::{Scheduler, SchedulerKind};
 use mrpp_lifelong::{ActionModel, LifelongProblem};
 use mrpp_mapf::lorr_files;
 
@@ -515,9 +515,17 @@ fn info(inputs: &Inputs) -> Result<u8, Fail> {
         // The congestion-free reference over the asked horizon (mrpp_lifelong::bound).
         let problem = LifelongProblem::new(f, model(inputs)?, steps(inputs)?, step_time(inputs)?);
         let limit = Deadline::after(Duration::from_secs(600));
-        for (kind, name) in [
-            (SchedulerKind::Greedy, "greedy"),
-            (SchedulerKind::Hungarian, "hungarian"),
+        let pickup_only = Scheduler {
+            chain_weight: 0.0,
+            ..Scheduler::new(SchedulerKind::Hungarian)
+        };
+        for (scheduler, name) in [
+            (Scheduler::new(SchedulerKind::Greedy), "greedy scheduler"),
+            (
+                Scheduler::new(SchedulerKind::Hungarian),
+                "hungarian scheduler",
+            ),
+            (pickup_only, "hungarian scheduler with -p chain_weight=0"),
         ] {
             let live = crate::progress::Live::start(name);
             let ctx = mrpp_core::Ctx {
@@ -525,17 +533,15 @@ fn info(inputs: &Inputs) -> Result<u8, Fail> {
                 deadline: limit,
                 progress: Some(live.callback()),
             };
-            let bound = mrpp_lifelong::bound::congestion_free(&problem, kind, 400, &ctx);
+            let bound = mrpp_lifelong::bound::congestion_free(&problem, &scheduler, &ctx);
             live.finish();
             match bound {
                 Some(n) => out!(
-                    "congestion-free reference ({name} scheduler, {}, {} steps): {n} tasks finished if robots never got in each other's way",
+                    "congestion-free reference ({name}, {}, {} steps): {n} tasks finished if robots never got in each other's way",
                     problem.model().name(),
                     problem.steps()
                 ),
-                None => out!(
-                    "congestion-free reference ({name} scheduler): not computed within 10 minutes"
-                ),
+                None => out!("congestion-free reference ({name}): not computed within 10 minutes"),
             }
         }
     }

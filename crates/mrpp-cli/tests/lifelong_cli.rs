@@ -652,10 +652,14 @@ fn a_run_in_ticks_under_delays_is_written_validated_and_bad_settings_are_refused
 fn info_gives_the_congestion_free_reference_over_a_horizon() {
     let (code, stdout, err) = mrpp(&["info", "--lorr", MAZE, "--lifelong", "--steps", "150"]);
     assert_eq!(code, Some(0), "{stdout}{err}");
-    for scheduler in ["greedy", "hungarian"] {
+    for scheduler in [
+        "greedy scheduler",
+        "hungarian scheduler",
+        "hungarian scheduler with -p chain_weight=0",
+    ] {
         let line = stdout
             .lines()
-            .find(|l| l.contains(&format!("congestion-free reference ({scheduler} scheduler")))
+            .find(|l| l.contains(&format!("congestion-free reference ({scheduler},")))
             .unwrap_or_else(|| panic!("{stdout}"));
         let tasks: usize = line
             .split(": ")

@@ -17,17 +17,16 @@ use mrpp_core::mapf::graph::VertexId;
 use crate::distances::{DEFAULT_BUDGET, Distances, TurnDistances};
 use crate::model::{Action, ActionModel, State, apply};
 use crate::problem::LifelongProblem;
-use crate::scheduler::{SchedulerKind, schedule};
+use crate::scheduler::Scheduler;
 use crate::sim::Simulation;
 
-/// Tasks finished in `problem`'s horizon without collisions (module doc), with `scheduler`
-/// (`hungarian_max` as the planners' parameter), or `None` when `ctx.deadline` passed first.
+/// Tasks finished in `problem`'s horizon without collisions (module doc), with `scheduler`,
+/// or `None` when `ctx.deadline` passed first.
 /// Reports the step and the tasks finished through `ctx` (a 5,000-robot problem takes a
 /// minute).
 pub fn congestion_free(
     problem: &LifelongProblem,
-    scheduler: SchedulerKind,
-    hungarian_max: usize,
+    scheduler: &Scheduler,
     ctx: &mrpp_core::Ctx,
 ) -> Option<usize> {
     let deadline = ctx.deadline;
@@ -49,7 +48,7 @@ pub fn congestion_free(
             total: u64::from(problem.steps()),
             note: format!("{} tasks finished", sim.finished),
         });
-        let proposal = schedule(scheduler, hungarian_max, &sim, &mut dist, far);
+        let proposal = scheduler.propose(&sim, &mut dist, far);
         let next: Vec<State> = sim
             .states
             .iter()
@@ -129,8 +128,12 @@ mod tests {
             .join("../../data/robot-runners/lorr2026-maze/maze-example_40.json");
         for model in [ActionModel::MapfT, ActionModel::Mapf] {
             let problem = LifelongProblem::load(&path, model, 150, Duration::from_secs(1)).unwrap();
-            let bound =
-                congestion_free(&problem, SchedulerKind::Hungarian, 400, &Ctx::default()).unwrap();
+            let bound = congestion_free(
+                &problem,
+                &Scheduler::new(crate::scheduler::SchedulerKind::Hungarian),
+                &Ctx::default(),
+            )
+            .unwrap();
             let planner = PLANNERS[1]
                 .instantiate(&[("lns_iterations".into(), "100".into())])
                 .unwrap();

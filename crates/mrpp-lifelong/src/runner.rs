@@ -26,12 +26,12 @@ use crate::guide_paths::GuidePaths;
 use crate::model::{Action, ActionModel};
 use crate::problem::{Assign, LifelongProblem, ScheduleErrorRecord, Trace};
 use crate::rotation_pibt::RotationPibt;
-use crate::scheduler::{SchedulerKind, schedule};
+use crate::scheduler::{Scheduler, SchedulerKind};
 use crate::sim::Simulation;
 use crate::window_lns::{LnsOptions, WindowLns};
 
 /// lifelong-pibt's parameters: the scheduler, the guide paths and windowed LNS.
-const PIBT_PARAMS: [Param; 8] = [
+const PIBT_PARAMS: [Param; 9] = [
     Param {
         name: "scheduler",
         default: "greedy",
@@ -72,6 +72,11 @@ const PIBT_PARAMS: [Param; 8] = [
         default: "8",
         doc: "with window > 0: robots re-planned together in one neighbourhood at most",
     },
+    Param {
+        name: "chain_weight",
+        default: "1",
+        doc: "the scheduler's cost of a task is d(robot, next errand) + W x (the distances between its later errands), W in [0, 10]: 1 = the start kit's; 0 = pickup distance only, which finished more tasks on the kit's random_32_32_20_100 over 1,000 steps and fewer on its larger maps (docs/performance.md)",
+    },
 ];
 
 /// Rolling PIBT with rotations in the planner registry.
@@ -84,7 +89,7 @@ pub const PIBT_ENTRY: PlannerEntry<LifelongProblem> = PlannerEntry {
 
 /// lifelong-lns's parameters: lifelong-pibt's, with a window of 10 steps and the `hungarian`
 /// scheduler (`matching` above `hungarian_max`).
-const LNS_PARAMS: [Param; 9] = [
+const LNS_PARAMS: [Param; 10] = [
     Param {
         name: "scheduler",
         default: "hungarian",
@@ -106,6 +111,7 @@ const LNS_PARAMS: [Param; 9] = [
         default: "0.2",
         doc: "above this share of the free cells covered by robots, plan one PIBT step per call (no window, no LNS): on the kit's warehouse map windowed LNS finished more tasks at 13% (5,000 robots) and far fewer at 26% (10,000 robots), where its rollouts leave the guide paths too little time",
     },
+    PIBT_PARAMS[8],
 ];
 
 /// Windowed PIBT refined by LNS in the planner registry ([`crate::window_lns`]).
@@ -118,15 +124,18 @@ pub const LNS_ENTRY: PlannerEntry<LifelongProblem> = PlannerEntry {
 
 /// The planner of either entry from its checked parameters.
 fn build(name: &'static str, p: &mrpp_core::Params) -> mrpp_core::Result<LifelongPibt> {
-    let scheduler = match p.choice("scheduler", &["greedy", "hungarian", "matching"])? {
-        0 => SchedulerKind::Greedy,
-        1 => SchedulerKind::Hungarian,
-        _ => SchedulerKind::Matching,
+    let scheduler = Scheduler {
+        kind: match p.choice("scheduler", &["greedy", "hungarian", "matching"])? {
+            0 => SchedulerKind::Greedy,
+            1 => SchedulerKind::Hungarian,
+            _ => SchedulerKind::Matching,
+        },
+        hungarian_max: p.get_in("hungarian_max", 1..=5000)?,
+        chain_weight: p.get_in("chain_weight", 0.0..=10.0)?,
     };
     Ok(LifelongPibt {
         name,
         scheduler,
-        hungarian_max: p.get_in("hungarian_max", 1..=5000)?,
         guidance: match p.choice("guidance", &["auto", "none", "traffic-flow"])? {
             0 => Guidance::Auto,
             1 => Guidance::None,
@@ -176,8 +185,7 @@ pub const AUTO_DENSITY: f64 = 0.02;
 pub struct LifelongPibt {
     /// The registry name it was built under.
     pub name: &'static str,
-    pub scheduler: SchedulerKind,
-    pub hungarian_max: usize,
+    pub scheduler: Scheduler,
     /// Whether robots follow traffic-flow guide paths.
     pub guidance: Guidance,
     /// Guide paths re-planned per step ([`GuidePaths::replans`]).
@@ -221,13 +229,9 @@ impl Planner<LifelongProblem> for LifelongPibt {
         };
         run(problem, ctx, prepare, |sim, dist, budget| {
             let started = Instant::now();
-            let proposal = schedule(
-                self.scheduler,
-                self.hungarian_max,
-                sim,
-                dist,
-                Deadline::after(budget / 2),
-            );
+            let proposal = self
+                .scheduler
+                .propose(sim, dist, Deadline::after(budget / 2));
             let goals: Vec<VertexId> = proposal
                 .iter()
                 .zip(&sim.states)

@@ -14,7 +14,7 @@ use mrpp_core::Deadline;
 use mrpp_lifelong::distances::{DEFAULT_BUDGET, Distances};
 use mrpp_lifelong::lorr_output::to_json;
 use mrpp_lifelong::runner::Run;
-use mrpp_lifelong::scheduler::{SchedulerKind, schedule};
+use mrpp_lifelong::scheduler::{Scheduler, SchedulerKind};
 use mrpp_lifelong::{Action, LifelongProblem};
 
 use crate::{MrppError, inputs};
@@ -151,9 +151,16 @@ impl Simulation {
     }
 
     /// A proposed assignment (each robot's task id or None) by mrpp's scheduler `kind`
-    /// (`greedy`: the start kit's; `hungarian`; `matching`), within `time_limit` seconds.
-    #[pyo3(signature = (kind="greedy", time_limit=0.5))]
-    fn schedule(&mut self, kind: &str, time_limit: f64) -> PyResult<Vec<Option<usize>>> {
+    /// (`greedy`: the start kit's; `hungarian`; `matching`), within `time_limit` seconds;
+    /// a task costs d(robot, next errand) + `chain_weight` x its later errands' distances
+    /// (1: the start kit's cost; 0: pickup distance only).
+    #[pyo3(signature = (kind="greedy", time_limit=0.5, chain_weight=1.0))]
+    fn schedule(
+        &mut self,
+        kind: &str,
+        time_limit: f64,
+        chain_weight: f64,
+    ) -> PyResult<Vec<Option<usize>>> {
         let kind = match kind {
             "greedy" => SchedulerKind::Greedy,
             "hungarian" => SchedulerKind::Hungarian,
@@ -169,10 +176,17 @@ impl Simulation {
                 "time_limit must be a positive number of seconds, got {time_limit}"
             )));
         }
+        if !(0.0..=10.0).contains(&chain_weight) {
+            return Err(MrppError::new_err(format!(
+                "chain_weight must be between 0 and 10, got {chain_weight}"
+            )));
+        }
         let run = self.cell.borrow_dependent();
-        Ok(schedule(
-            kind,
-            400,
+        let scheduler = Scheduler {
+            chain_weight,
+            ..Scheduler::new(kind)
+        };
+        Ok(scheduler.propose(
             &run.sim,
             &mut self.dist,
             Deadline::after(Duration::from_secs_f64(time_limit.min(1e6))),

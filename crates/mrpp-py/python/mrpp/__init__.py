@@ -267,12 +267,16 @@ class Simulation:
         letters = list(actions) if isinstance(actions, str) else [str(a) for a in actions]
         self._native.step(letters, None if schedule is None else list(schedule))
 
-    def schedule(self, kind: str = "greedy", time_limit: float = 0.5) -> List[Optional[int]]:
+    def schedule(
+        self, kind: str = "greedy", time_limit: float = 0.5, chain_weight: float = 1.0
+    ) -> List[Optional[int]]:
         """mrpp's proposal of each robot's task: ``greedy`` (the League's start kit's: each free
         robot takes the nearest open task, never re-assigned), ``hungarian`` (a minimum-cost
         assignment of every robot not yet at its first errand) or ``matching`` (greedy matching
-        of the same pairs by increasing cost, for thousands of robots)."""
-        return self._native.schedule(kind, float(time_limit))
+        of the same pairs by increasing cost, for thousands of robots). A task costs the distance
+        to its next errand plus ``chain_weight`` (0 to 10) times the distances between its later
+        errands: 1 is the start kit's cost, 0 the pickup distance only."""
+        return self._native.schedule(kind, float(time_limit), float(chain_weight))
 
     def to_json(self) -> str:
         """The run so far as the League's output JSON text."""
