@@ -251,6 +251,14 @@ pub struct GaFormationArgs {
     /// The paper's scale: 95 pairs per map x 7 maps x R = 1..3.
     #[arg(long)]
     paper_settings: bool,
+    /// The corridor cost model (the paper gives none; mrpp_formation::cost): lanes = every
+    /// extra wave of robots slows the group by --kappa of the corridor's length; waves = waves
+    /// follow each other one robot's spacing apart; hard = a corridor's capacity is a wall.
+    #[arg(long, value_parser = ["lanes", "waves", "hard"], default_value = "lanes")]
+    cost: String,
+    /// With --cost lanes: the share of a corridor's length each extra wave costs, in [0, 10].
+    #[arg(long, default_value_t = 0.5, allow_negative_numbers = true)]
+    kappa: f64,
     /// Wall-clock limit of the exact planner per configuration, in seconds.
     #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
     exact_time_limit: f64,
@@ -572,10 +580,22 @@ fn ga_formation(a: &GaFormationArgs, merge: Option<Mode>) -> Result<u8, Fail> {
             "--pairs must be between 1 and 10000, got {pairs}"
         )));
     }
+    if !(0.0..=10.0).contains(&a.kappa) {
+        return Err(Fail(format!(
+            "--kappa must be between 0 and 10, got {}",
+            a.kappa
+        )));
+    }
+    let cost = match a.cost.as_str() {
+        "waves" => mrpp_formation::CostModel::Waves,
+        "hard" => mrpp_formation::CostModel::Hard,
+        _ => mrpp_formation::CostModel::Lanes { kappa: a.kappa },
+    };
     let cfg = FormationConfig {
         seed: a.seed,
         pairs,
         robots: a.robots.clone(),
+        cost,
         exact_limit: seconds("exact-time-limit", a.exact_time_limit)?,
         save_plans: a.save_plans,
         ..FormationConfig::default()

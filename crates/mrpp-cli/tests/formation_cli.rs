@@ -238,3 +238,51 @@ fn ga_formation_experiment_writes_its_page() {
         assert!(out.join(f).exists(), "{f}");
     }
 }
+
+/// `--cost` picks the corridor cost model (issue 32, item 3). Under `hard` a corridor's
+/// capacity is a wall, so some three-robot formations fit no plan: the GA then has none (an
+/// infinite c_max in results.csv) and the experiment goes on instead of failing.
+#[test]
+fn ga_formation_experiment_takes_a_cost_model() {
+    let out = tmp("gaf-hard");
+    let (code, stdout, err) = mrpp(&[
+        "experiment",
+        "ga-formation",
+        "--pairs",
+        "2",
+        "--robots",
+        "3",
+        "--cost",
+        "hard",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{stdout}{err}");
+    let page = std::fs::read_to_string(out.join("ga-formation.md")).unwrap();
+    assert!(page.contains("cost model hard"), "{page}");
+    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    let ga: Vec<f64> = csv
+        .lines()
+        .skip(1)
+        .map(|l| l.split(',').nth(8).unwrap().parse().unwrap())
+        .collect();
+    assert_eq!(ga.len(), 7 * 2, "{csv}");
+    assert!(
+        ga.iter().any(|c| c.is_infinite()),
+        "no formation over capacity: {csv}"
+    );
+    assert!(ga.iter().any(|c| c.is_finite()), "{csv}");
+    let (code, _, err) = mrpp(&[
+        "experiment",
+        "ga-formation",
+        "--cost",
+        "lanes",
+        "--kappa",
+        "-1",
+        "--out",
+        tmp("gaf-bad").to_str().unwrap(),
+    ]);
+    assert_eq!(code, 1, "{err}");
+    assert!(err.contains("--kappa must be between 0 and 10"), "{err}");
+    assert!(!tmp("gaf-bad").exists());
+}

@@ -227,9 +227,16 @@ impl Sweep for GaFormation {
         let ga_run = ga_run
             .ok_or_else(|| Error::Internal(format!("{}: Q_goal unreachable", self.key(job))))?;
         // The GA's plan passes the validator like every plan (its run is driven directly for its
-        // generation count).
-        let ga = accept(&f.problem, ga_run.plan.clone(), "ga", Duration::ZERO)
-            .map_err(|e| Error::Internal(e.to_string()))?;
+        // generation count); under `--cost hard` it may find none within the corridors'
+        // capacities (an infinite c_max, like a planner that gave up).
+        let ga = if ga_run.c_max.is_finite() {
+            Some(
+                accept(&f.problem, ga_run.plan.clone(), "ga", Duration::ZERO)
+                    .map_err(|e| Error::Internal(e.to_string()))?,
+            )
+        } else {
+            None
+        };
         let exact = Exact {
             candidate_limit: 500_000,
         };
@@ -244,7 +251,7 @@ impl Sweep for GaFormation {
         if self.cfg.save_plans {
             let runs = [
                 ("sequential", 0, seq.as_ref()),
-                ("ga", ga_seed, Some(&ga)),
+                ("ga", ga_seed, ga.as_ref()),
                 ("exact", 0, opt.as_ref()),
             ];
             for (name, seed, s) in runs {
@@ -262,12 +269,12 @@ impl Sweep for GaFormation {
             ga_seed,
             roadmap_ms: f.build_ms,
             sequential: seq.as_ref().map_or(f64::INFINITY, |s| s.metrics.c_max),
-            ga: ga.metrics.c_max,
+            ga: ga.as_ref().map_or(f64::INFINITY, |g| g.metrics.c_max),
             optimum: opt.as_ref().map(|o| o.metrics.c_max),
             ga_generation_of_best: ga_run.generation_of_best,
             ga_ms_per_generation: ga_ms / ga_run.generations.max(1) as f64,
             exact_ms,
-            ga_plan: ga.plan.paths.clone(),
+            ga_plan: ga.as_ref().map_or_else(Vec::new, |g| g.plan.paths.clone()),
             plan_files,
         })
     }
@@ -425,12 +432,13 @@ fn summary_table(rows: &[&FormationRow]) -> String {
 
 fn page(t: &GaFormation, rows: &[&FormationRow], m: &Manifest) -> String {
     format!(
-        "# GA formation paper, §3 / Fig. 4: sequential and GA against the optimum\n\n`mrpp {}` — mrpp {}, {} pairs per map on {} maps, R in {:?}, wall time {:.1} s, {} threads.\n\n{}\nOptimum = the exact planner's proven optimum (branch and bound); a configuration it could not prove within {:?} is counted as unproven and left out of the percentages. Fig. 4: fig4.svg; a Fig. 5-style picture: fig5.svg.\n",
+        "# GA formation paper, §3 / Fig. 4: sequential and GA against the optimum\n\n`mrpp {}` — mrpp {}, {} pairs per map on {} maps, R in {:?}, cost model {}, wall time {:.1} s, {} threads.\n\n{}\nOptimum = the exact planner's proven optimum (branch and bound); a configuration it could not prove within {:?} is counted as unproven and left out of the percentages. Fig. 4: fig4.svg; a Fig. 5-style picture: fig5.svg.\n",
         m.sweep_command().join(" "),
         m.mrpp_version,
         t.cfg.pairs,
         MAPS.len(),
         t.cfg.robots,
+        t.cfg.cost.label(),
         m.wall_seconds,
         m.threads,
         summary_table(rows),
