@@ -259,6 +259,11 @@ pub struct GaFormationArgs {
     /// With --cost lanes: the share of a corridor's length each extra wave costs, in [0, 10].
     #[arg(long, default_value_t = 0.5, allow_negative_numbers = true)]
     kappa: f64,
+    /// The GA's initial population: sequential = the sequential plan and its variants (the
+    /// paper's); random = every robot on its own shortest path under randomly scaled edge lengths (the
+    /// random start the paper says needs more generations).
+    #[arg(long, value_parser = ["sequential", "random"], default_value = "sequential")]
+    ga_initial: String,
     /// Wall-clock limit of the exact planner per configuration, in seconds.
     #[arg(long, default_value_t = 30.0, allow_negative_numbers = true)]
     exact_time_limit: f64,
@@ -596,6 +601,10 @@ fn ga_formation(a: &GaFormationArgs, merge: Option<Mode>) -> Result<u8, Fail> {
         pairs,
         robots: a.robots.clone(),
         cost,
+        ga: mrpp_formation::ga::Ga {
+            random_start: a.ga_initial == "random",
+            ..mrpp_formation::ga::Ga::default()
+        },
         exact_limit: seconds("exact-time-limit", a.exact_time_limit)?,
         save_plans: a.save_plans,
         ..FormationConfig::default()

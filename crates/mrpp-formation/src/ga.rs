@@ -5,7 +5,11 @@
 //! - **Initial population** (§2.2.1): the sequential planner's plan, then diverse valid variants:
 //!   the sequential planner on edge weights scaled by U[1, 1 + `noise`] (different splits), and
 //!   "all robots on the k-th shortest path" for k = 1, 2, … (Yen's order), alternating, until the
-//!   population is full (duplicates allowed when the roadmap offers too few).
+//!   population is full (duplicates allowed when the roadmap offers too few). The paper seeds
+//!   its population with the sequential planner and says this needs fewer generations than a
+//!   random start; `-p initial=random` is that random start, for comparison: every robot of
+//!   every individual on its own shortest path under edge lengths scaled by U[1, 11], drawn
+//!   per robot ([`RANDOM_SPREAD`]), so the sequential plan is in it only by chance.
 //! - **Fitness** (§2.2.3): `F = C − c_max`, where `C` is the cost of the whole formation on one
 //!   path (the best single path under `c_e(R)`). Roulette selection needs non-negative weights, so
 //!   an individual is drawn with probability proportional to `F − F_min + ε` (ε = 1e-9 · |C|, so a
@@ -40,6 +44,9 @@ use crate::paths::{dijkstra, eliminate_loops, paths_up_to};
 use crate::planners::sequential_paths;
 use crate::problem::{FormationPlan, FormationProblem};
 
+/// `-p initial=random`: each robot's edge lengths are scaled by U[1, 1 + this] (module doc).
+pub const RANDOM_SPREAD: f64 = 10.0;
+
 /// Registry name of the GA.
 pub const NAME: &str = "ga";
 
@@ -73,6 +80,11 @@ pub const ENTRY: PlannerEntry<FormationProblem> = PlannerEntry {
             default: "0.5",
             doc: "initial variants: edge weights scaled by U[1, 1 + noise]",
         },
+        Param {
+            name: "initial",
+            default: "sequential",
+            doc: "initial population: sequential = the sequential plan and its variants (the paper's); random = each robot on its own shortest path under edge lengths scaled by U[1, 11] (the random start the paper compares against)",
+        },
     ],
     build: |p| {
         Ok(Box::new(Ga {
@@ -81,6 +93,7 @@ pub const ENTRY: PlannerEntry<FormationProblem> = PlannerEntry {
             p_m: p.get_in("p_m", 0.0..=1.0)?,
             generations: p.get_in("generations", 0..=10_000_000)?,
             noise: p.get_in("noise", 0.0..=100.0)?,
+            random_start: p.choice("initial", &["sequential", "random"])? == 1,
         }))
     },
 };
@@ -93,6 +106,9 @@ pub struct Ga {
     pub p_m: f64,
     pub generations: usize,
     pub noise: f64,
+    /// `-p initial=random`: a random initial population instead of the sequential plan's
+    /// (module doc).
+    pub random_start: bool,
 }
 
 impl Default for Ga {
@@ -103,6 +119,7 @@ impl Default for Ga {
             p_m: 0.3,
             generations: 100,
             noise: 0.5,
+            random_start: false,
         }
     }
 }
@@ -192,8 +209,26 @@ impl Ga {
         if seq.len() < p.robots() {
             return None;
         }
-        let mut pop = vec![Individual::new(p, seq)];
         let none = mrpp_core::Deadline::none();
+        if self.random_start {
+            let r = p.roadmap();
+            let banned = vec![false; r.num_vertices()];
+            let random_path = |rng: &mut ChaCha8Rng| {
+                let scale: Vec<f64> = (0..r.edges.len())
+                    .map(|_| 1.0 + RANDOM_SPREAD * rng.random::<f64>())
+                    .collect();
+                let len = |e: u32, _: u32, _: u32| r.edges[e as usize].length * scale[e as usize];
+                crate::paths::dijkstra(r, p.start(), p.goal(), &banned, &len).map(|(path, _)| path)
+            };
+            let mut pop = Vec::with_capacity(self.population);
+            for _ in 0..self.population {
+                let paths: Option<Vec<Vec<u32>>> =
+                    (0..p.robots()).map(|_| random_path(rng)).collect();
+                pop.push(Individual::new(p, paths?));
+            }
+            return Some(pop);
+        }
+        let mut pop = vec![Individual::new(p, seq)];
         let shortest = paths_up_to(
             p.roadmap(),
             p.start(),

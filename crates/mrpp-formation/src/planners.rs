@@ -211,10 +211,13 @@ mod property_tests {
             let exact = solve(&Exact { candidate_limit: 100_000 }, &p, &ctx);
             let seq = solve(&Sequential, &p, &ctx);
             let ga = solve(&crate::ga::Ga { generations: 20, ..crate::ga::Ga::default() }, &p, &ctx);
-            for s in [&exact, &seq, &ga].into_iter().flatten() {
+            // The random start (`-p initial=random`): valid, never below the optimum.
+            let random = crate::ga::Ga { generations: 20, random_start: true, ..crate::ga::Ga::default() };
+            let ga_random = solve(&random, &p, &ctx);
+            for s in [&exact, &seq, &ga, &ga_random].into_iter().flatten() {
                 prop_assert!(s.metrics.c_max.is_finite() && s.metrics.sum_of_costs.is_finite());
             }
-            for s in [&exact, &seq, &ga] {
+            for s in [&exact, &seq, &ga, &ga_random] {
                 if let Err(e) = s {
                     prop_assert!(matches!(e, Unsolved::GaveUp(_)), "{e:?}");
                 }
@@ -222,8 +225,14 @@ mod property_tests {
             let (_, brute) = brute_force(&p, 100_000).unwrap();
             if !brute.is_finite() {
                 prop_assert!(matches!(cost, CostModel::Hard));
-                prop_assert!(exact.is_err() && seq.is_err() && ga.is_err());
+                prop_assert!(exact.is_err() && seq.is_err() && ga.is_err() && ga_random.is_err());
                 return Ok(());
+            }
+            if let Ok(g) = &ga_random {
+                prop_assert!(g.metrics.c_max >= brute - 1e-9);
+            }
+            if !matches!(cost, CostModel::Hard) {
+                prop_assert!(ga_random.is_ok());
             }
             let exact = exact.unwrap();
             prop_assert!((exact.metrics.c_max - brute).abs() < 1e-9, "exact {} brute {brute}", exact.metrics.c_max);

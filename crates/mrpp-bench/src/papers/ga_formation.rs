@@ -432,13 +432,18 @@ fn summary_table(rows: &[&FormationRow]) -> String {
 
 fn page(t: &GaFormation, rows: &[&FormationRow], m: &Manifest) -> String {
     format!(
-        "# GA formation paper, §3 / Fig. 4: sequential and GA against the optimum\n\n`mrpp {}` — mrpp {}, {} pairs per map on {} maps, R in {:?}, cost model {}, wall time {:.1} s, {} threads.\n\n{}\nOptimum = the exact planner's proven optimum (branch and bound); a configuration it could not prove within {:?} is counted as unproven and left out of the percentages. Fig. 4: fig4.svg; a Fig. 5-style picture: fig5.svg.\n",
+        "# GA formation paper, §3 / Fig. 4: sequential and GA against the optimum\n\n`mrpp {}` — mrpp {}, {} pairs per map on {} maps, R in {:?}, cost model {}, GA initial population {}, wall time {:.1} s, {} threads.\n\n{}\nOptimum = the exact planner's proven optimum (branch and bound); a configuration it could not prove within {:?} is counted as unproven and left out of the percentages. Fig. 4: fig4.svg; a Fig. 5-style picture: fig5.svg.\n",
         m.sweep_command().join(" "),
         m.mrpp_version,
         t.cfg.pairs,
         MAPS.len(),
         t.cfg.robots,
         t.cfg.cost.label(),
+        if t.cfg.ga.random_start {
+            "random"
+        } else {
+            "sequential"
+        },
         m.wall_seconds,
         m.threads,
         summary_table(rows),
