@@ -9,7 +9,7 @@ use clap::{Args, Subcommand, ValueEnum};
 
 use mrpp_core::MapfProblem;
 use mrpp_trees::gp::GpParams;
-use mrpp_trees::plan_json::{read_tree_plan, tree_envelope};
+use mrpp_trees::plan_json::{read_tree_plan, read_tree_plan_to_draw, tree_envelope};
 use mrpp_trees::{ProblemSpec, RobotCount, TreeInstance, generate_problem, tree_problem};
 
 use crate::family::{Def, Format, Inputs, Loaded, ReadPlan, SolveRequest};
@@ -96,9 +96,24 @@ fn info(inputs: &Inputs) -> Result<u8, Fail> {
 }
 
 fn read_plan(inputs: &Inputs, plan_path: &Path) -> Result<ReadPlan<MapfProblem>, Fail> {
+    read_plan_with(inputs, plan_path, false)
+}
+
+/// [`read_plan`]; with `to_draw`, a file that says `solved: false` is read as its robots
+/// standing on their starts (pictures of an unsolved instance).
+fn read_plan_with(
+    inputs: &Inputs,
+    plan_path: &Path,
+    to_draw: bool,
+) -> Result<ReadPlan<MapfProblem>, Fail> {
     let tree = TreeInstance::load(instance_path(inputs)?)?;
     let text = mrpp_core::error::read_file(plan_path)?;
-    let (problem, plan, env) = read_tree_plan(&tree, &text, plan_path, inputs.no_following)?;
+    let read = if to_draw {
+        read_tree_plan_to_draw
+    } else {
+        read_tree_plan
+    };
+    let (problem, plan, env) = read(&tree, &text, plan_path, inputs.no_following)?;
     let planner = if env.planner.is_empty() {
         "?"
     } else {
@@ -550,7 +565,7 @@ fn scene(inputs: &Inputs, plan_path: &Path) -> Result<serde_json::Value, Fail> {
     use mrpp_core::Problem;
     use serde_json::json;
     let tree = TreeInstance::load(instance_path(inputs)?)?;
-    let read = read_plan(inputs, plan_path)?;
+    let read = read_plan_with(inputs, plan_path, true)?;
     let pos = tidy_layout(&tree);
     let inst = read.problem.instance();
     let at = |v: mrpp_core::VertexId| pos[v as usize];

@@ -112,7 +112,8 @@ fn unsolved_status(plan: &Path) -> Option<String> {
 /// the picture is still made, since a broken plan is worth seeing, but not without a word.
 pub(crate) fn warn_if_invalid(family: &dyn crate::family::Family, inputs: &Inputs, plan: &Path) {
     if let Some(status) = unsolved_status(plan) {
-        // Grid pictures draw the starts and goals of such a file; other families refuse it.
+        // Grid and tree pictures draw the starts and goals of such a file; formation and
+        // continuous ones still refuse it.
         eprintln!(
             "mrpp: note: {}: the file holds no plan (solved=false, status {status}): only the starts and goals can be drawn",
             plan.display()

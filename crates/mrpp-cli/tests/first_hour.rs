@@ -786,6 +786,65 @@ fn an_unsolved_grid_plan_file_shows_its_starts_and_goals() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
+/// Item 11 for trees: a tree plan file that says solved=false shows its starts and goals too
+/// (before: `mrpp render --instance data/trees/example.json --plan unsolved.json` exited 1, "the
+/// file says solved=false: it holds no plan").
+#[test]
+fn an_unsolved_tree_plan_file_shows_its_starts_and_goals() {
+    let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data");
+    let dir = std::env::temp_dir().join(format!("mrpp-unsolved-tree-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let instance = data
+        .join("trees/example.json")
+        .to_string_lossy()
+        .into_owned();
+    let inputs = ["--instance", instance.as_str()];
+    let solved = dir.join("solved.json");
+    let ran = mrpp_in(
+        &dir,
+        &[
+            &["solve", "-P", "psw", "-o", solved.to_str().unwrap()][..],
+            &inputs[..],
+        ]
+        .concat(),
+    );
+    assert_eq!(ran.code, Some(0), "{}", ran.err);
+    let text = std::fs::read_to_string(&solved).unwrap();
+    assert!(text.contains("\"solved\": true"), "{text}");
+    let unsolved = dir.join("unsolved.json");
+    std::fs::write(
+        &unsolved,
+        text.replace("\"solved\": true", "\"solved\": false")
+            .replace("\"status\": \"solved\"", "\"status\": \"time_limit\""),
+    )
+    .unwrap();
+    let u = unsolved.to_str().unwrap();
+    for (verb, out) in [("render", "unsolved.svg"), ("view", "unsolved.html")] {
+        let out = dir.join(out);
+        let ran = mrpp_in(
+            &dir,
+            &[
+                &[verb, "--plan", u, "-o", out.to_str().unwrap()][..],
+                &inputs[..],
+            ]
+            .concat(),
+        );
+        assert_eq!(ran.code, Some(0), "{verb}: {}", ran.err);
+        assert!(
+            ran.err.contains("holds no plan (solved=false"),
+            "{verb}: {}",
+            ran.err
+        );
+        assert!(std::fs::metadata(&out).unwrap().len() > 0);
+    }
+    let ran = mrpp_in(
+        &dir,
+        &[&["validate", "--plan", u][..], &inputs[..]].concat(),
+    );
+    assert_eq!(ran.code, Some(1), "{}", ran.err);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
 /// Item 8 (part): a plan file with a value of the wrong type names the key path of that value,
 /// not serde's "at line 1 column 496".
 #[test]

@@ -14,7 +14,9 @@ use serde_json::Value;
 
 use mrpp_core::envelope::{Envelope, World};
 use mrpp_core::error::{Error, Result};
-use mrpp_core::mapf::plan_file::{RunInfo, mapf_envelope, mapf_plan, mapf_rules};
+use mrpp_core::mapf::plan_file::{
+    RunInfo, mapf_envelope, mapf_plan, mapf_plan_to_draw, mapf_rules,
+};
 use mrpp_core::{GoalSemantics, MapfProblem, Plan, Rules, Solved, Unsolved};
 
 use crate::instance::TreeInstance;
@@ -52,6 +54,30 @@ pub fn read_tree_plan(
     path: &Path,
     no_following: bool,
 ) -> Result<(MapfProblem, Plan, Envelope<u64>)> {
+    read(tree, text, path, no_following, false)
+}
+
+/// As [`read_tree_plan`], but a file that says `solved: false` is read too, each robot standing
+/// on its start, so that its starts and goals can be drawn. For pictures only.
+///
+/// # Errors
+/// As [`read_tree_plan`], except for `solved: false`.
+pub fn read_tree_plan_to_draw(
+    tree: &TreeInstance,
+    text: &str,
+    path: &Path,
+    no_following: bool,
+) -> Result<(MapfProblem, Plan, Envelope<u64>)> {
+    read(tree, text, path, no_following, true)
+}
+
+fn read(
+    tree: &TreeInstance,
+    text: &str,
+    path: &Path,
+    no_following: bool,
+    to_draw: bool,
+) -> Result<(MapfProblem, Plan, Envelope<u64>)> {
     mrpp_core::envelope::check_family(text, crate::FAMILY, path)?;
     let env: Envelope<u64> =
         Envelope::parse(text, path).map_err(|e| retag(e, "not a tree plan"))?;
@@ -84,21 +110,22 @@ pub fn read_tree_plan(
         }
     }
     let nodes = tree.num_nodes() as u64;
-    let (_, plan) = mapf_plan(
-        &env,
-        |&v| {
-            if v < nodes {
-                Ok(v as u32)
-            } else {
-                Err(format!(
-                    "node {v} is not on the tree (nodes are 0..{})",
-                    nodes.saturating_sub(1)
-                ))
-            }
-        },
-        |v| v.to_string(),
-        path,
-    )?;
+    let node = |&v: &u64| {
+        if v < nodes {
+            Ok(v as u32)
+        } else {
+            Err(format!(
+                "node {v} is not on the tree (nodes are 0..{})",
+                nodes.saturating_sub(1)
+            ))
+        }
+    };
+    let label = |v: &u64| v.to_string();
+    let (_, plan) = if to_draw {
+        mapf_plan_to_draw(&env, node, label, path)?
+    } else {
+        mapf_plan(&env, node, label, path)?
+    };
     let problem = MapfProblem::new(std::sync::Arc::new(tree.graph.clone()), inst.clone(), rules)
         .expect("a TreeInstance names only its own nodes");
     Ok((problem, plan, env))
