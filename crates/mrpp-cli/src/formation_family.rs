@@ -102,9 +102,13 @@ fn info(inputs: &Inputs) -> Result<u8, Fail> {
 }
 
 /// `mrpp render --formation F --plan P --out F.svg`.
+/// A file that says `solved: false` is drawn as the formation at Q_ini and its goal Q_goal.
 fn render(inputs: &Inputs, plan_path: &Path) -> Result<String, Fail> {
-    let read = read_plan(inputs, plan_path)?;
     let (f, _) = formation(inputs)?;
+    if crate::verbs::unsolved_status(plan_path).is_some() {
+        return Ok(render_svg(&f.map, &f.problem, None));
+    }
+    let read = read_plan(inputs, plan_path)?;
     Ok(render_svg(&f.map, &read.problem, Some(&read.plan)))
 }
 
@@ -140,8 +144,19 @@ fn scene(inputs: &Inputs, plan_path: &Path) -> Result<serde_json::Value, Fail> {
     use mrpp_core::Problem;
     use serde_json::json;
     let (f, path) = formation(inputs)?;
-    let read = read_plan(inputs, plan_path)?;
     let r = f.problem.roadmap();
+    // A file that says `solved: false`: every robot standing at Q_ini, Q_goal marked.
+    let read = match crate::verbs::unsolved_status(plan_path) {
+        Some(status) => ReadPlan {
+            problem: f.problem.clone(),
+            plan: mrpp_formation::FormationPlan {
+                paths: vec![vec![f.problem.start()]; f.problem.robots()],
+            },
+            claims: serde_json::Map::new(),
+            about: format!("no plan (solved=false, status {status})"),
+        },
+        None => read_plan(inputs, plan_path)?,
+    };
     let (lo, hi) = f.map.bounds();
     let mut polygons: Vec<Vec<[f64; 2]>> =
         f.map.obstacles.iter().map(|o| o.vertices.clone()).collect();
@@ -156,7 +171,17 @@ fn scene(inputs: &Inputs, plan_path: &Path) -> Result<serde_json::Value, Fail> {
         Err(v) => json!({"valid": false, "text": v.to_string()}),
     };
     let radius = f.problem.radius();
+    let unsolved = crate::verbs::unsolved_status(plan_path).is_some();
     let agents: Vec<serde_json::Value> = match f.problem.schedule(&read.plan.paths) {
+        Err(_) if unsolved => (0..f.problem.robots())
+            .map(|_| {
+                let (s, g) = (
+                    r.points[f.problem.start() as usize],
+                    r.points[f.problem.goal() as usize],
+                );
+                json!({"radius": radius, "start": s, "goal": g, "path": [s]})
+            })
+            .collect(),
         Err(_) => Vec::new(),
         Ok(schedule) => {
             let end = schedule

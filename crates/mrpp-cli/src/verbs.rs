@@ -94,7 +94,7 @@ pub(crate) fn render(inputs: &Inputs, plan: &Path, out: &Path, gif: bool) -> Res
 }
 
 /// The `status` of a JSON plan file that says `solved: false` (`None` for anything else).
-fn unsolved_status(plan: &Path) -> Option<String> {
+pub(crate) fn unsolved_status(plan: &Path) -> Option<String> {
     let text = std::fs::read_to_string(plan).ok()?;
     if !text.trim_start().starts_with('{') {
         return None;
@@ -112,7 +112,7 @@ fn unsolved_status(plan: &Path) -> Option<String> {
 /// the picture is still made, since a broken plan is worth seeing, but not without a word.
 pub(crate) fn warn_if_invalid(family: &dyn crate::family::Family, inputs: &Inputs, plan: &Path) {
     if let Some(status) = unsolved_status(plan) {
-        // Grid and tree pictures draw the starts and goals of such a file; formation and
+        // Grid, tree and formation pictures draw the starts and goals of such a file;
         // continuous ones still refuse it.
         eprintln!(
             "mrpp: note: {}: the file holds no plan (solved=false, status {status}): only the starts and goals can be drawn",

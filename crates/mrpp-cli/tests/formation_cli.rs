@@ -286,3 +286,58 @@ fn ga_formation_experiment_takes_a_cost_model() {
     assert!(err.contains("--kappa must be between 0 and 10"), "{err}");
     assert!(!tmp("gaf-bad").exists());
 }
+
+/// Issue 30, item 11 for formations: a plan file that says solved=false shows Q_ini, Q_goal and
+/// the roadmap (before: exit 1, "the file says solved=false: it holds no plan"); validate still
+/// refuses it.
+#[test]
+fn an_unsolved_formation_plan_file_shows_its_start_and_goal() {
+    let solved = tmp("solved-formation.json");
+    let (code, out, err) = mrpp(&[
+        "solve",
+        "--formation",
+        "data/formation/gaps-3.json",
+        "-P",
+        "ga",
+        "-o",
+        solved.to_str().unwrap(),
+    ]);
+    assert_eq!(code, 0, "{out}{err}");
+    let text = std::fs::read_to_string(&solved).unwrap();
+    assert!(text.contains("\"solved\": true"), "{text}");
+    let unsolved = tmp("unsolved-formation.json");
+    std::fs::write(
+        &unsolved,
+        text.replace("\"solved\": true", "\"solved\": false")
+            .replace("\"status\": \"solved\"", "\"status\": \"time_limit\""),
+    )
+    .unwrap();
+    let u = unsolved.to_str().unwrap();
+    for (verb, name) in [
+        ("render", "unsolved-formation.svg"),
+        ("view", "unsolved-formation.html"),
+    ] {
+        let pic = tmp(name);
+        let (code, out, err) = mrpp(&[
+            verb,
+            "--formation",
+            "data/formation/gaps-3.json",
+            "--plan",
+            u,
+            "-o",
+            pic.to_str().unwrap(),
+        ]);
+        assert_eq!(code, 0, "{verb}: {out}{err}");
+        assert!(err.contains("holds no plan (solved=false"), "{verb}: {err}");
+        let drawn = std::fs::read_to_string(&pic).unwrap();
+        assert!(drawn.contains("Q_goal"), "{verb}");
+    }
+    let (code, _, err) = mrpp(&[
+        "validate",
+        "--formation",
+        "data/formation/gaps-3.json",
+        "--plan",
+        u,
+    ]);
+    assert_eq!(code, 1, "{err}");
+}
