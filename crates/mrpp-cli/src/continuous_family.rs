@@ -99,7 +99,12 @@ fn info(inputs: &Inputs) -> Result<u8, Fail> {
 }
 
 /// `mrpp render --world W --plan P --out F.svg`.
+/// A file that says `solved: false` is drawn as the world with the robots' starts and goals.
 fn render(inputs: &Inputs, plan_path: &Path) -> Result<String, Fail> {
+    if crate::verbs::unsolved_status(plan_path).is_some() {
+        let (problem, _) = world(inputs)?;
+        return Ok(render_svg(problem.world(), None));
+    }
     let read = read_plan(inputs, plan_path)?;
     Ok(render_svg(read.problem.world(), Some(&read.plan)))
 }
@@ -109,6 +114,26 @@ fn render(inputs: &Inputs, plan_path: &Path) -> Result<String, Fail> {
 fn scene(inputs: &Inputs, plan_path: &Path) -> Result<serde_json::Value, Fail> {
     use mrpp_core::Problem;
     use serde_json::json;
+    // A file that says `solved: false`: every robot on its start, its goal marked.
+    if let Some(status) = crate::verbs::unsolved_status(plan_path) {
+        let (problem, _) = world(inputs)?;
+        let w = problem.world();
+        let agents: Vec<serde_json::Value> = w
+            .robots
+            .iter()
+            .map(|r| json!({"radius": r.radius, "start": r.start, "goal": r.goal, "path": [r.start]}))
+            .collect();
+        return Ok(json!({
+            "family": "continuous",
+            "title": format!("{} | {}", crate::output::file_name(inputs.world.as_deref().unwrap_or(Path::new("world"))), crate::output::file_name(plan_path)),
+            "about": format!("no plan (solved=false, status {status})"),
+            "bounds": w.workspace,
+            "y_up": true,
+            "polygons": w.obstacles,
+            "agents": agents,
+            "verdict": {"valid": false, "text": format!("the file holds no plan (status {status})")},
+        }));
+    }
     let read = read_plan(inputs, plan_path)?;
     let w = read.problem.world();
     let agents: Vec<serde_json::Value> = w

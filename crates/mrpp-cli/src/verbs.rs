@@ -112,8 +112,7 @@ pub(crate) fn unsolved_status(plan: &Path) -> Option<String> {
 /// the picture is still made, since a broken plan is worth seeing, but not without a word.
 pub(crate) fn warn_if_invalid(family: &dyn crate::family::Family, inputs: &Inputs, plan: &Path) {
     if let Some(status) = unsolved_status(plan) {
-        // Grid, tree and formation pictures draw the starts and goals of such a file;
-        // continuous ones still refuse it.
+        // Every family's pictures draw the starts and goals of such a file.
         eprintln!(
             "mrpp: note: {}: the file holds no plan (solved=false, status {status}): only the starts and goals can be drawn",
             plan.display()
