@@ -278,7 +278,7 @@ pub fn execute_replanning(
                                 .filter(|r| r.iter().all(|&(i, k)| k < done[i]))
                                 .map(|r| r.iter().map(|&(i, k)| (i, base[i] + k)).collect()),
                         );
-                        offset = crate::replan::cut(&mut executed, offset, &cur, &done);
+                        offset = crate::replan::cut(&mut executed, offset, &adg, &done);
                         crate::replan::append(&mut executed, &next);
                         for i in 0..n {
                             base[i] += done[i];

@@ -29,6 +29,8 @@
 use mrpp_core::mapf::graph::VertexId;
 use mrpp_core::mapf::plan::Plan;
 
+use crate::adg::Adg;
+
 /// How to re-plan on drift (module doc).
 pub struct Replanning<'a> {
     /// Ticks a robot may lag behind its plan's timing before a re-plan, at least 1.
@@ -38,29 +40,16 @@ pub struct Replanning<'a> {
     pub planner: &'a mut dyn FnMut(&[VertexId]) -> Option<Plan>,
 }
 
-/// Cuts `executed` (whose paths from index `offset` on are `cur`'s) after each robot's first
-/// `done[i]` moves of `cur`, pads every path with waits to one length, and returns that length
-/// minus one: the index at which the next plan starts.
-pub(crate) fn cut(executed: &mut Plan, offset: usize, cur: &Plan, done: &[usize]) -> usize {
-    let ends: Vec<usize> = cur
-        .paths
+/// Cuts `executed` (whose paths from index `offset` on are those of the plan `adg` was built
+/// from) after each robot's first `done[i]` moves of that plan, pads every path with waits to
+/// one length, and returns that length minus one: the index at which the next plan starts.
+pub(crate) fn cut(executed: &mut Plan, offset: usize, adg: &Adg, done: &[usize]) -> usize {
+    // A move at step s ends at path index s + 1.
+    let ends: Vec<usize> = adg
+        .moves
         .iter()
         .zip(done)
-        .map(|(p, &d)| {
-            if d == 0 {
-                return 0;
-            }
-            let mut moves = 0;
-            for t in 0..p.len() - 1 {
-                if p[t] != p[t + 1] {
-                    moves += 1;
-                    if moves == d {
-                        return t + 1;
-                    }
-                }
-            }
-            p.len() - 1
-        })
+        .map(|(m, &d)| d.checked_sub(1).map_or(0, |k| m[k].step as usize + 1))
         .collect();
     let last = offset + ends.iter().copied().max().unwrap_or(0);
     for (path, &e) in executed.paths.iter_mut().zip(&ends) {
@@ -91,7 +80,7 @@ mod tests {
         let cur = Plan {
             paths: vec![vec![0, 1, 2], vec![5, 5, 6, 7]],
         };
-        let at = cut(&mut executed, 1, &cur, &[1, 2]);
+        let at = cut(&mut executed, 1, &Adg::new(&cur), &[1, 2]);
         assert_eq!(at, 4);
         assert_eq!(
             executed.paths,
