@@ -8,6 +8,16 @@
 //! would exceed the budget (default [`DEFAULT_BUDGET`]), the one used longest ago is dropped and
 //! rebuilt when asked for again. [`Distances::warm`] builds tables ahead of a run (the kit's
 //! preprocessing), within a deadline.
+//!
+//! **Large maps.** A table costs a breadth-first search over the whole map. When the budget
+//! cannot hold a table for each robot's next two errands, the tables are rebuilt over and over
+//! (on the kit v3's `iron-example_10000`, 2.2 million free cells and 10,000 robots, calls took
+//! 18-32 s instead of 1 s). [`TableKind`] (the lifelong planners' option `distance_tables`)
+//! chooses: `exact` tables always, `manhattan` distances (|dx| + |dy|, a lower bound that needs
+//! no search and ignores walls), or `auto`, exact unless the budget holds fewer tables than
+//! twice the robots. The kit's default planner switches to Manhattan distances on every map of
+//! more than 90,000 cells (`is_large_map`, `default_planner/utils.cpp`, v3.1.0); mrpp keeps exact
+//! tables wherever they fit (e.g. brc202d, 254,930 cells), where they found more tasks.
 
 use mrpp_core::Deadline;
 use mrpp_core::mapf::graph::{Graph, VertexId};
@@ -97,11 +107,40 @@ impl Cache {
     }
 }
 
-/// Hop-distance tables by target vertex (module doc).
+/// How [`Distances`] measures (module doc, "Large maps"); the lifelong planners' option
+/// `distance_tables`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TableKind {
+    /// `Exact` when the budget holds tables for twice the robots, else `Manhattan`.
+    Auto,
+    /// Breadth-first tables, rebuilt least recently used first beyond the budget.
+    Exact,
+    /// |dx| + |dy| on the grid: no table, walls ignored.
+    Manhattan,
+}
+
+impl TableKind {
+    /// Whether a run of `robots` robots on a graph of `vertices` vertices uses exact tables
+    /// within `budget` bytes.
+    pub fn exact_for(self, vertices: usize, robots: usize, budget: usize) -> bool {
+        match self {
+            TableKind::Exact => true,
+            TableKind::Manhattan => false,
+            TableKind::Auto => {
+                let narrow = vertices < u16::MAX as usize;
+                let per_table = vertices.max(1) * if narrow { 2 } else { 4 };
+                budget / per_table >= 2 * robots
+            }
+        }
+    }
+}
+
+/// Hop-distance tables by target vertex, or Manhattan distances (module doc).
 #[derive(Debug)]
 pub struct Distances {
     cache: Cache,
     narrow: bool,
+    manhattan: bool,
 }
 
 impl Distances {
@@ -112,24 +151,62 @@ impl Distances {
         Distances {
             cache: Cache::new(vertices, vertices, narrow, budget),
             narrow,
+            manhattan: false,
         }
     }
 
-    /// Hop distance from `from` to `to` ([`UNREACHABLE`] in another component).
+    /// Manhattan distances on a grid graph (|dx| + |dy|; 0 on a graph without coordinates): no
+    /// table is ever built.
+    pub fn manhattan() -> Self {
+        Distances {
+            cache: Cache::new(0, 0, true, 0),
+            narrow: true,
+            manhattan: true,
+        }
+    }
+
+    /// Exact tables within `budget` bytes or Manhattan distances, as `kind` says for `robots`
+    /// robots on a graph of `vertices` vertices ([`TableKind::exact_for`]).
+    pub fn of_kind(kind: TableKind, vertices: usize, robots: usize, budget: usize) -> Self {
+        if kind.exact_for(vertices, robots, budget) {
+            Distances::new(vertices, budget)
+        } else {
+            Distances::manhattan()
+        }
+    }
+
+    /// Whether distances are exact hop counts (else Manhattan lower bounds).
+    pub fn is_exact(&self) -> bool {
+        !self.manhattan
+    }
+
+    /// Hop distance from `from` to `to` ([`UNREACHABLE`] in another component); the Manhattan
+    /// distance in Manhattan mode.
     pub fn get(&mut self, graph: &Graph, from: VertexId, to: VertexId) -> u32 {
+        if self.manhattan {
+            return graph.manhattan(from, to);
+        }
         self.table(graph, to).get(from)
     }
 
     /// Hop distances to `to` from each of `from`, in order (one table look-up).
     pub fn to(&mut self, graph: &Graph, to: VertexId, from: &[VertexId], out: &mut Vec<u32>) {
-        let table = self.table(graph, to);
         out.clear();
+        if self.manhattan {
+            out.extend(from.iter().map(|&v| graph.manhattan(v, to)));
+            return;
+        }
+        let table = self.table(graph, to);
         out.extend(from.iter().map(|&v| table.get(v)));
     }
 
     /// Builds the tables of `targets` not built yet, in order, until one of `deadlines` passes or
-    /// the budget is full (the kit's preprocessing); returns how many tables are live.
+    /// the budget is full (the kit's preprocessing); returns how many tables are live (0 in
+    /// Manhattan mode).
     pub fn warm(&mut self, graph: &Graph, targets: &[VertexId], deadlines: &[Deadline]) -> usize {
+        if self.manhattan {
+            return 0;
+        }
         for &t in targets {
             if self.cache.live.len() >= self.cache.max_tables
                 || deadlines.iter().any(Deadline::expired)
@@ -320,5 +397,33 @@ mod tests {
         }
         assert!(d.cache.live.len() <= 2);
         assert!(d.built() > n);
+    }
+
+    #[test]
+    fn auto_keeps_exact_tables_while_twice_the_robots_fit_and_manhattan_needs_no_table() {
+        // 1,000 vertices: 2-byte entries, 2,000 bytes a table.
+        assert!(TableKind::Auto.exact_for(1000, 50, 200_000));
+        assert!(!TableKind::Auto.exact_for(1000, 51, 200_000));
+        assert!(TableKind::Exact.exact_for(1000, 51, 200_000));
+        assert!(!TableKind::Manhattan.exact_for(1000, 1, usize::MAX));
+        // The kit v3's iron_harvest: 2.2 million vertices, 10,000 robots, 4 GiB.
+        assert!(!TableKind::Auto.exact_for(2_217_759, 10_000, DEFAULT_BUDGET));
+        let map = GridMap::from_free_rows(&[
+            vec![true, true, true, true],
+            vec![true, false, false, true],
+            vec![true, true, true, true],
+        ]);
+        let g = map.graph();
+        let mut d = Distances::of_kind(TableKind::Manhattan, g.num_vertices(), 1, 1 << 20);
+        assert!(!d.is_exact());
+        let (a, b) = (map.vertex_at(1, 0).unwrap(), map.vertex_at(1, 2).unwrap());
+        // The wall between them is ignored: 2, where the hop distance is 4.
+        assert_eq!(d.get(g, a, b), 2);
+        assert_eq!(bfs_distances(g, b)[a as usize], 4);
+        let mut out = Vec::new();
+        d.to(g, b, &[a, b], &mut out);
+        assert_eq!(out, [2, 0]);
+        assert_eq!(d.warm(g, &[a, b], &[]), 0);
+        assert_eq!(d.built(), 0);
     }
 }

@@ -21,7 +21,7 @@ use std::time::{Duration, Instant};
 use mrpp_core::mapf::graph::VertexId;
 use mrpp_core::{Ctx, Deadline, Param, Planner, PlannerEntry, Progress, Unsolved};
 
-use crate::distances::{DEFAULT_BUDGET, Distances, TurnDistances};
+use crate::distances::{DEFAULT_BUDGET, Distances, TableKind, TurnDistances};
 use crate::guide_paths::GuidePaths;
 use crate::model::{Action, ActionModel};
 use crate::problem::{Assign, LifelongProblem, ScheduleErrorRecord, Trace};
@@ -31,7 +31,7 @@ use crate::sim::Simulation;
 use crate::window_lns::{LnsOptions, WindowLns};
 
 /// lifelong-pibt's parameters: the scheduler, the guide paths and windowed LNS.
-const PIBT_PARAMS: [Param; 9] = [
+const PIBT_PARAMS: [Param; 10] = [
     Param {
         name: "scheduler",
         default: "greedy",
@@ -77,6 +77,11 @@ const PIBT_PARAMS: [Param; 9] = [
         default: "1",
         doc: "the scheduler's cost of a task is d(robot, next errand) + W x (the distances between its later errands), W in [0, 10]: 1 = the start kit's; 0 = pickup distance only, which finished more tasks on the kit's random_32_32_20_100 over 1,000 steps and fewer on its larger maps (docs/performance.md)",
     },
+    Param {
+        name: "distance_tables",
+        default: "auto",
+        doc: "exact = breadth-first distance tables to errand cells (4 GiB at most, least recently used rebuilt); manhattan = |dx| + |dy|, no tables (the start kit's choice on maps over 90,000 cells); auto = exact unless the 4 GiB hold tables for fewer than twice the robots (e.g. 10,000 robots on 2.2 million cells)",
+    },
 ];
 
 /// Rolling PIBT with rotations in the planner registry.
@@ -89,7 +94,7 @@ pub const PIBT_ENTRY: PlannerEntry<LifelongProblem> = PlannerEntry {
 
 /// lifelong-lns's parameters: lifelong-pibt's, with a window of 10 steps and the `hungarian`
 /// scheduler (`matching` above `hungarian_max`).
-const LNS_PARAMS: [Param; 10] = [
+const LNS_PARAMS: [Param; 11] = [
     Param {
         name: "scheduler",
         default: "hungarian",
@@ -112,6 +117,7 @@ const LNS_PARAMS: [Param; 10] = [
         doc: "above this share of the free cells covered by robots, plan one PIBT step per call (no window, no LNS): on the kit's warehouse map windowed LNS finished more tasks at 13% (5,000 robots) and far fewer at 26% (10,000 robots), where its rollouts leave the guide paths too little time",
     },
     PIBT_PARAMS[8],
+    PIBT_PARAMS[9],
 ];
 
 /// Windowed PIBT refined by LNS in the planner registry ([`crate::window_lns`]).
@@ -143,6 +149,11 @@ fn build(name: &'static str, p: &mrpp_core::Params) -> mrpp_core::Result<Lifelon
         },
         guide_replans: p.get_in("guide_replans", 0..=1_000_000)?,
         turn_distances: p.choice("distances", &["hops", "turns"])? == 1,
+        tables: match p.choice("distance_tables", &["auto", "exact", "manhattan"])? {
+            0 => TableKind::Auto,
+            1 => TableKind::Exact,
+            _ => TableKind::Manhattan,
+        },
         lns: match p.get_in("window", 0..=64)? {
             0 => None,
             window => Some(LnsOptions {
@@ -192,6 +203,9 @@ pub struct LifelongPibt {
     pub guide_replans: usize,
     /// Under `MAPF_T`, rank cells by rotation-aware distances ([`TurnDistances`]).
     pub turn_distances: bool,
+    /// Exact distance tables or Manhattan distances ([`crate::distances`], "Large maps").
+    /// Rotation-aware tables are built only with exact ones.
+    pub tables: TableKind,
     /// Plan a window ahead and refine it by LNS ([`crate::window_lns`]); `None`: one PIBT step.
     pub lns: Option<LnsOptions>,
 }
@@ -216,10 +230,13 @@ impl Planner<LifelongProblem> for LifelongPibt {
             Guidance::Auto => n as f64 >= AUTO_DENSITY * vertices as f64,
         };
         let mut guide = guided.then(|| GuidePaths::new(problem.map(), n, self.guide_replans));
+        let dist = Distances::of_kind(self.tables, vertices, n, DEFAULT_BUDGET);
         // Built during preprocessing and used by every step: shared by the two closures.
         let turn_tables = std::cell::RefCell::new(
-            ((self.turn_distances || windowed.is_some()) && problem.model() == ActionModel::MapfT)
-                .then(|| TurnDistances::new(problem.map(), DEFAULT_BUDGET / 2)),
+            ((self.turn_distances || windowed.is_some())
+                && problem.model() == ActionModel::MapfT
+                && dist.is_exact())
+            .then(|| TurnDistances::new(problem.map(), DEFAULT_BUDGET / 2)),
         );
         let mut cells = Vec::with_capacity(n);
         let prepare = |targets: &[VertexId], deadlines: &[Deadline]| {
@@ -227,7 +244,7 @@ impl Planner<LifelongProblem> for LifelongPibt {
                 t.warm(targets, deadlines);
             }
         };
-        run(problem, ctx, prepare, |sim, dist, budget| {
+        run(problem, ctx, dist, prepare, |sim, dist, budget| {
             let started = Instant::now();
             let proposal = self
                 .scheduler
@@ -299,7 +316,8 @@ impl Planner<LifelongProblem> for LifelongPibt {
 pub type Answer = (Vec<Action>, Vec<Option<usize>>);
 
 /// Runs the kit's loop (module doc) with `call` as scheduler and planner: given the state, the
-/// distance tables and the step's budget, it answers. `prepare` is called during preprocessing
+/// distance tables (`dist`, warmed here during preprocessing) and the step's budget, it answers.
+/// `prepare` is called during preprocessing
 /// with each batch of errand cells whose hop tables were built, and the deadlines that bound it
 /// (a planner's own tables, e.g. [`TurnDistances`]).
 ///
@@ -308,6 +326,7 @@ pub type Answer = (Vec<Action>, Vec<Option<usize>>);
 pub fn run(
     problem: &LifelongProblem,
     ctx: &Ctx,
+    mut dist: Distances,
     mut prepare: impl FnMut(&[VertexId], &[Deadline]),
     mut call: impl FnMut(&Simulation<'_>, &mut Distances, Duration) -> Answer,
 ) -> Result<Trace, Unsolved> {
@@ -315,7 +334,6 @@ pub fn run(
     let steps = problem.steps();
     let budget = problem.step_time().max(Duration::from_micros(1));
     let graph = problem.map().graph();
-    let mut dist = Distances::new(graph.num_vertices(), DEFAULT_BUDGET);
     // Preprocessing (the kit's `initialize`): distance tables of the errands of the tasks
     // revealed first (the pool, then as many again as there are robots), in the order they will
     // be revealed, within the preprocessing time and the tables' budget.
@@ -328,7 +346,18 @@ pub fn run(
         .filter(|&v| seen.insert(v))
         .collect();
     let prep = Deadline::after(problem.preprocess_time());
+    if !dist.is_exact() {
+        ctx.report(Progress {
+            stage: "preprocessing",
+            done: 0,
+            total: 0,
+            note: "Manhattan distances: no tables (distance_tables)".into(),
+        });
+    }
     for (k, chunk) in errands.chunks(256).enumerate() {
+        if !dist.is_exact() {
+            break;
+        }
         let live = dist.warm(graph, chunk, &[prep, ctx.deadline]);
         prepare(chunk, &[prep, ctx.deadline]);
         ctx.report(Progress {

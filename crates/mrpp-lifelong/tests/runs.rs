@@ -176,3 +176,48 @@ fn windowed_lns_steps_aside_above_its_density_limit() {
     assert_eq!(run(1, Some("0")), pibt);
     assert_ne!(run(1, Some("1")), pibt);
 }
+
+/// `distance_tables=manhattan` (no tables, walls ignored; the start kit's choice on large maps)
+/// gives valid runs that finish tasks with both planners on the walled maze; `auto` keeps exact
+/// tables there (40 robots on a small map), step for step, and Manhattan distances change the
+/// plan (so the test can fail).
+#[test]
+fn manhattan_distances_give_valid_runs_and_auto_keeps_exact_tables_where_they_fit() {
+    let problem = LifelongProblem::load(
+        &data(EXAMPLES[1]),
+        ActionModel::MapfT,
+        150,
+        Duration::from_secs(1),
+    )
+    .unwrap();
+    for entry in PLANNERS {
+        let run = |tables: &str| {
+            let planner = entry
+                .instantiate(&[
+                    ("distance_tables".into(), tables.into()),
+                    ("lns_iterations".into(), "100".into()),
+                ])
+                .unwrap();
+            let ctx = Ctx {
+                seed: 2,
+                ..Ctx::default()
+            };
+            solve(planner.as_ref(), &problem, &ctx).unwrap_or_else(|e| panic!("{tables}: {e}"))
+        };
+        let manhattan = run("manhattan");
+        assert!(manhattan.metrics.tasks_finished > 0, "{}", entry.name);
+        assert_eq!(manhattan.metrics.planner_errors, 0, "{}", entry.name);
+        let exact = run("exact");
+        assert_eq!(
+            run("auto").plan.actions,
+            exact.plan.actions,
+            "{}",
+            entry.name
+        );
+        assert_ne!(manhattan.plan.actions, exact.plan.actions, "{}", entry.name);
+        eprintln!(
+            "{}: manhattan {} tasks, exact {}",
+            entry.name, manhattan.metrics.tasks_finished, exact.metrics.tasks_finished
+        );
+    }
+}
