@@ -353,42 +353,39 @@ impl Sweep for ExecutionSweep {
         };
         let started = std::time::Instant::now();
         let (run, executed) = if row.replan_drift == 0 {
-            (execute(map, plan, &cfg), plan.clone())
+            (execute(map, plan, &cfg), None)
         } else {
             let p = planner(&self.cfg.planners[j.planner])?;
-            let mut calls = 0u64;
-            let goals = &problem.instance().goals;
-            let mut replan = |at: &[mrpp_core::mapf::graph::VertexId]| {
-                calls += 1;
-                let instance =
-                    mrpp_core::mapf::instance::Instance::new(at.to_vec(), goals.clone()).ok()?;
-                let from = MapfProblem::new(problem.graph_arc().clone(), instance, problem.rules())
-                    .ok()?;
-                let ctx = Ctx::new(
-                    derive_seed(seed, &format!("replan/{calls}")),
-                    Deadline::after(self.cfg.time_limit),
-                );
-                solve(p.as_ref(), &from, &ctx).ok().map(|s| s.plan)
-            };
+            let mut replanner =
+                mrpp_exec::Replanner::new(problem, p.as_ref(), seed, self.cfg.time_limit);
+            let mut replan = |at: &[mrpp_core::mapf::graph::VertexId]| replanner.plan(at);
             let replanning = mrpp_exec::Replanning {
                 drift: row.replan_drift,
                 planner: &mut replan,
             };
-            mrpp_exec::execute_replanning(map, plan, &cfg, Some(replanning))
+            let (run, executed) = mrpp_exec::execute_replanning(map, plan, &cfg, Some(replanning));
+            if let Some(why) = replanner.invalid {
+                return Err(Error::Internal(format!(
+                    "{}: a re-plan was invalid: {why}",
+                    self.key(j)
+                )));
+            }
+            (run, Some(executed))
         };
         row.wall_ms = started.elapsed().as_secs_f64() * 1e3;
         row.replans = run.metrics.replans;
-        // Under the ADG the executed plan is valid (`mrpp_exec::replan`); the naive executor may
-        // have broken it.
-        if executor == ExecutorKind::Adg {
-            mrpp_core::Problem::validate(problem, &executed).map_err(|v| {
+        // Under the ADG a re-planned executed plan is valid (`mrpp_exec::replan`); the naive
+        // executor may have broken it. Without re-planning it is the plan, validated already.
+        if let Some(executed) = executed.as_ref().filter(|_| executor == ExecutorKind::Adg) {
+            mrpp_core::Problem::validate(problem, executed).map_err(|v| {
                 Error::Internal(format!(
                     "{}: the executed plan is invalid: {v}",
                     self.key(j)
                 ))
             })?;
         }
-        check(map, &executed, &run, cfg.ticks_per_move, cfg.agent_size).map_err(|e| {
+        let executed = executed.as_ref().unwrap_or(plan);
+        check(map, executed, &run, cfg.ticks_per_move, cfg.agent_size).map_err(|e| {
             Error::Internal(format!(
                 "{}: the execution does not replay: {e}",
                 self.key(j)

@@ -82,12 +82,15 @@ pub(crate) fn execute(a: &ExecuteArgs) -> Result<u8, Fail> {
             ))
         })?;
     let plan = mrpp_exec::robust::k_robust(&plan, k);
-    mrpp_core::Problem::validate(&problem, &plan).map_err(|v| {
-        Fail(format!(
-            "the {k}-robust re-timing of {} is not valid (a bug in mrpp): {v}",
-            a.plan.display()
-        ))
-    })?;
+    // k = 0 leaves the plan as read (and validated); a re-timed one is checked again.
+    if k > 0 {
+        mrpp_core::Problem::validate(&problem, &plan).map_err(|v| {
+            Fail(format!(
+                "the {k}-robust re-timing of {} is not valid (a bug in mrpp): {v}",
+                a.plan.display()
+            ))
+        })?;
+    }
     let makespan = plan.paths.iter().map(Vec::len).max().unwrap_or(1) as u64;
     let cfg = ExecConfig {
         executor,
@@ -99,10 +102,8 @@ pub(crate) fn execute(a: &ExecuteArgs) -> Result<u8, Fail> {
         max_ticks: (makespan + 1) * u64::from(ticks_per_move) * 50 + 100_000,
     };
     let (run, plan) = if let Some(drift) = a.replan_drift {
-        let entry = mrpp_grid::PLANNERS
-            .iter()
-            .find(|e| e.name == a.replan_planner)
-            .ok_or_else(|| {
+        let entry =
+            mrpp_core::registry::find(mrpp_grid::PLANNERS, &a.replan_planner).ok_or_else(|| {
                 let known: Vec<&str> = mrpp_grid::PLANNERS.iter().map(|e| e.name).collect();
                 Fail(format!(
                     "--replan-planner {}: not a grid planner (known: {})",
@@ -112,32 +113,29 @@ pub(crate) fn execute(a: &ExecuteArgs) -> Result<u8, Fail> {
             })?;
         let planner = entry.instantiate(&[]).map_err(|e| Fail(e.to_string()))?;
         let budget = crate::output::seconds("replan-time-limit", a.replan_time_limit)?;
-        let goals = problem.instance().goals.clone();
-        let mut calls = 0u64;
-        let mut replan = |at: &[mrpp_core::mapf::graph::VertexId]| {
-            calls += 1;
-            let instance =
-                mrpp_core::mapf::instance::Instance::new(at.to_vec(), goals.clone()).ok()?;
-            let from =
-                mrpp_core::MapfProblem::new(problem.graph_arc().clone(), instance, problem.rules())
-                    .ok()?;
-            let ctx = mrpp_core::Ctx::new(
-                mrpp_core::seeds::derive_seed(a.seed, &format!("replan/{calls}")),
-                mrpp_core::Deadline::after(budget),
-            );
-            mrpp_core::solve(planner.as_ref(), &from, &ctx)
-                .ok()
-                .map(|s| s.plan)
-        };
+        let live = crate::progress::Live::start("execute, re-planning");
+        let mut replanner = mrpp_exec::Replanner::new(&problem, planner.as_ref(), a.seed, budget)
+            .with_progress(Some(live.callback()));
+        let mut replan = |at: &[mrpp_core::mapf::graph::VertexId]| replanner.plan(at);
         let replanning = mrpp_exec::Replanning {
             drift: drift as u64,
             planner: &mut replan,
         };
-        mrpp_exec::execute_replanning(&map, &plan, &cfg, Some(replanning))
+        let done = mrpp_exec::execute_replanning(&map, &plan, &cfg, Some(replanning));
+        live.finish();
+        if let Some(why) = replanner.invalid {
+            return Err(Fail(format!(
+                "--replan-planner {}: {why} (a bug in the planner; nothing written)",
+                a.replan_planner
+            )));
+        }
+        done
     } else {
         (mrpp_exec::execute(&map, &plan, &cfg), plan)
     };
-    if executor == ExecutorKind::Adg {
+    // A plan read from a file was validated when read; only a re-planned one is new. Under the
+    // ADG it is valid (mrpp_exec::replan); the naive executor may have broken it.
+    if executor == ExecutorKind::Adg && a.replan_drift.is_some() {
         mrpp_core::Problem::validate(&problem, &plan).map_err(|v| {
             Fail(format!(
                 "the executed plan of {} is not valid (a bug in mrpp): {v}",

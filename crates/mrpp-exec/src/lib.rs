@@ -17,4 +17,4 @@ pub mod robust;
 pub use adg::Adg;
 pub use delays::{DelayConfig, DelayGenerator};
 pub use execute::{ExecConfig, Execution, ExecutorKind, execute, execute_replanning};
-pub use replan::Replanning;
+pub use replan::{Replanner, Replanning};

@@ -26,10 +26,93 @@
 //! dependencies, so no robot's done move enters a cell before the robot the plan sent first left
 //! it (a property test validates every executed plan).
 
+use std::time::Duration;
+
 use mrpp_core::mapf::graph::VertexId;
+use mrpp_core::mapf::instance::Instance;
 use mrpp_core::mapf::plan::Plan;
+use mrpp_core::seeds::derive_seed;
+use mrpp_core::{Ctx, Deadline, MapfProblem, Planner, Progress, ProgressFn, Unsolved, solve};
 
 use crate::adg::Adg;
+
+/// A re-planner built on a MAPF planner: call `k` (from 1) plans from the configuration it is
+/// given to the problem's goals with seed `derive_seed(seed, "replan/k")` within `budget` of
+/// wall time, through [`mrpp_core::solve`] (so its plan is validated). What `mrpp execute` and
+/// `mrpp experiment execution` re-plan with.
+pub struct Replanner<'a> {
+    problem: &'a MapfProblem,
+    planner: &'a dyn Planner<MapfProblem>,
+    seed: u64,
+    budget: Duration,
+    progress: Option<ProgressFn>,
+    /// Calls so far.
+    pub calls: u64,
+    /// The first call whose planner returned a plan the validator rejects (a planner bug; the
+    /// execution went on without that plan): the caller should fail with it.
+    pub invalid: Option<String>,
+}
+
+impl<'a> Replanner<'a> {
+    /// Re-plans `problem`'s goals with `planner`, `budget` per call, seeds derived from `seed`.
+    pub fn new(
+        problem: &'a MapfProblem,
+        planner: &'a dyn Planner<MapfProblem>,
+        seed: u64,
+        budget: Duration,
+    ) -> Self {
+        Replanner {
+            problem,
+            planner,
+            seed,
+            budget,
+            progress: None,
+            calls: 0,
+            invalid: None,
+        }
+    }
+
+    /// Reports each call (stage `re-plan`, the count of calls, the outcome) to `progress`.
+    pub fn with_progress(mut self, progress: Option<ProgressFn>) -> Self {
+        self.progress = progress;
+        self
+    }
+
+    /// A plan from `at` (one vertex per robot) to the goals, or `None`: no plan within the
+    /// budget, a configuration that is not one (two robots on a vertex), or an invalid plan
+    /// (kept in [`Self::invalid`]).
+    pub fn plan(&mut self, at: &[VertexId]) -> Option<Plan> {
+        self.calls += 1;
+        let ctx = Ctx::new(
+            derive_seed(self.seed, &format!("replan/{}", self.calls)),
+            Deadline::after(self.budget),
+        );
+        let result = Instance::new(at.to_vec(), self.problem.instance().goals.clone())
+            .ok()
+            .and_then(|i| {
+                MapfProblem::new(self.problem.graph_arc().clone(), i, self.problem.rules()).ok()
+            })
+            .map(|from| solve(self.planner, &from, &ctx));
+        let (plan, note) = match result {
+            Some(Ok(s)) => (Some(s.plan), "plan found".to_string()),
+            Some(Err(Unsolved::Invalid(why))) => {
+                self.invalid.get_or_insert(why);
+                (None, "invalid plan (a planner bug)".to_string())
+            }
+            Some(Err(e)) => (None, format!("no plan: {}", e.status())),
+            None => (None, "not a configuration".to_string()),
+        };
+        if let Some(f) = &self.progress {
+            f(&Progress {
+                stage: "re-plan",
+                done: self.calls,
+                total: 0,
+                note,
+            });
+        }
+        plan
+    }
+}
 
 /// How to re-plan on drift (module doc).
 pub struct Replanning<'a> {

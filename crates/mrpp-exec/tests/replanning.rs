@@ -8,12 +8,12 @@ use std::path::Path;
 use std::time::Duration;
 
 use mrpp_core::mapf::graph::VertexId;
-use mrpp_core::mapf::instance::Instance;
 use mrpp_core::mapf::plan::Plan;
 use mrpp_core::{Ctx, Deadline, MapfProblem, Problem, solve};
 use mrpp_exec::execute::Ending;
 use mrpp_exec::{
-    DelayConfig, ExecConfig, ExecutorKind, Replanning, check::check, execute, execute_replanning,
+    DelayConfig, ExecConfig, ExecutorKind, Replanner, Replanning, check::check, execute,
+    execute_replanning,
 };
 use mrpp_grid::PLANNERS;
 
@@ -25,11 +25,15 @@ fn data(rel: &str) -> std::path::PathBuf {
 
 const SIZE: f64 = 0.5;
 
-fn lacam(problem: &MapfProblem, seed: u64) -> Option<Plan> {
-    let entry = PLANNERS.iter().find(|e| e.name == "lacam").unwrap();
-    let planner = entry.instantiate(&[]).unwrap();
+fn lacam_plan(problem: &MapfProblem, seed: u64) -> Option<Plan> {
+    let planner = lacam_planner();
     let ctx = Ctx::new(seed, Deadline::after(Duration::from_secs(5)));
     solve(planner.as_ref(), problem, &ctx).ok().map(|s| s.plan)
+}
+
+fn lacam_planner() -> Box<dyn mrpp_core::Planner<MapfProblem>> {
+    let entry = mrpp_core::registry::find(PLANNERS, "lacam").unwrap();
+    entry.instantiate(&[]).unwrap()
 }
 
 #[test]
@@ -40,8 +44,8 @@ fn adg_with_replanning_stays_collision_free_and_its_executed_plan_is_valid() {
         Some(60),
     )
     .unwrap();
-    let plan = lacam(&problem, 0).unwrap();
-    let goals = problem.instance().goals.clone();
+    let plan = lacam_plan(&problem, 0).unwrap();
+    let lacam = lacam_planner();
     let models = [
         "bernoulli:p=0.02,min=1,max=4",
         "poisson:p=0.01,min=2,max=8,duration=gaussian,mean=0.5,std=0.22",
@@ -61,18 +65,9 @@ fn adg_with_replanning_stays_collision_free_and_its_executed_plan_is_valid() {
                         agent_size: SIZE,
                         max_ticks: 1_000_000,
                     };
-                    let mut calls = 0u64;
-                    let mut planner = |at: &[VertexId]| {
-                        calls += 1;
-                        let instance = Instance::new(at.to_vec(), goals.clone()).ok()?;
-                        let p = MapfProblem::new(
-                            problem.graph_arc().clone(),
-                            instance,
-                            problem.rules(),
-                        )
-                        .ok()?;
-                        lacam(&p, calls)
-                    };
+                    let mut replanner =
+                        Replanner::new(&problem, lacam.as_ref(), seed, Duration::from_secs(5));
+                    let mut planner = |at: &[VertexId]| replanner.plan(at);
                     let (run, executed) = execute_replanning(
                         &grid,
                         &plan,
@@ -83,6 +78,7 @@ fn adg_with_replanning_stays_collision_free_and_its_executed_plan_is_valid() {
                         }),
                     );
                     let what = format!("{spec} x{counter} drift {drift} seed {seed}");
+                    assert_eq!(replanner.invalid, None, "{what}");
                     assert_eq!(run.ending, Ending::Finished, "{what}");
                     assert!(run.collisions.is_empty(), "{what}: {:?}", run.collisions[0]);
                     problem
@@ -117,7 +113,7 @@ fn a_replanner_that_finds_nothing_leaves_the_execution_unchanged() {
         Some(40),
     )
     .unwrap();
-    let plan = lacam(&problem, 0).unwrap();
+    let plan = lacam_plan(&problem, 0).unwrap();
     let cfg = ExecConfig {
         executor: ExecutorKind::Adg,
         ticks_per_move: 2,
@@ -142,4 +138,62 @@ fn a_replanner_that_finds_nothing_leaves_the_execution_unchanged() {
     assert_eq!(run.delays, plain.delays);
     assert_eq!(run.metrics.replans, 0);
     assert!(run.metrics.failed_replans > 0);
+}
+
+/// A planner whose plan teleports every robot to its goal in one step.
+struct Teleport;
+
+impl mrpp_core::Planner<MapfProblem> for Teleport {
+    fn name(&self) -> &str {
+        "teleport"
+    }
+
+    fn plan(&self, problem: &MapfProblem, _: &Ctx) -> Result<Plan, mrpp_core::Unsolved> {
+        let i = problem.instance();
+        Ok(Plan {
+            paths: i
+                .starts
+                .iter()
+                .zip(&i.goals)
+                .map(|(&s, &g)| vec![s, g])
+                .collect(),
+        })
+    }
+}
+
+/// `Replanner` keeps a re-plan the validator rejects (a planner bug) for its caller to fail
+/// with, instead of passing it off as "no plan found"; the execution goes on with the old plan.
+#[test]
+fn a_replanner_keeps_an_invalid_plan_as_an_error() {
+    let (grid, problem) = mrpp_grid::load_problem(
+        &data("random-32-32-20.map"),
+        &data("random-32-32-20-random-1.scen"),
+        Some(30),
+    )
+    .unwrap();
+    let plan = lacam_plan(&problem, 0).unwrap();
+    let cfg = ExecConfig {
+        executor: ExecutorKind::Adg,
+        ticks_per_move: 2,
+        delays: DelayConfig::parse("bernoulli:p=0.05,min=2,max=6").unwrap(),
+        seed: 1,
+        agent_size: SIZE,
+        max_ticks: 1_000_000,
+    };
+    let mut replanner = Replanner::new(&problem, &Teleport, 0, Duration::from_secs(1));
+    let mut planner = |at: &[VertexId]| replanner.plan(at);
+    let (run, executed) = execute_replanning(
+        &grid,
+        &plan,
+        &cfg,
+        Some(Replanning {
+            drift: 3,
+            planner: &mut planner,
+        }),
+    );
+    assert_eq!(executed.paths, plan.paths);
+    assert!(run.metrics.failed_replans > 0);
+    assert_eq!(replanner.calls, run.metrics.failed_replans as u64);
+    let why = replanner.invalid.expect("the teleport is refused");
+    assert!(why.contains("teleport"), "{why}");
 }
