@@ -31,7 +31,7 @@ use crate::sim::Simulation;
 use crate::window_lns::{LnsOptions, WindowLns};
 
 /// lifelong-pibt's parameters: the scheduler, the guide paths and windowed LNS.
-const PIBT_PARAMS: [Param; 10] = [
+const PIBT_PARAMS: [Param; 11] = [
     Param {
         name: "scheduler",
         default: "greedy",
@@ -78,6 +78,11 @@ const PIBT_PARAMS: [Param; 10] = [
         doc: "the scheduler's cost of a task is d(robot, next errand) + W x (the distances between its later errands), W in [0, 10]: 1 = the start kit's; 0 = pickup distance only, which finished more tasks on the kit's random_32_32_20_100 over 1,000 steps and fewer on its larger maps (docs/performance.md)",
     },
     Param {
+        name: "commitment",
+        default: "hold",
+        doc: "under MAPF_T, a robot that turned towards a cell (or was held back from it): hold = keeps that cell reserved at the next steps until it gets there or is stuck (the start kit's `decided`); prefer = the cell only goes first among equally good candidates",
+    },
+    Param {
         name: "distance_tables",
         default: "auto",
         doc: "exact = breadth-first distance tables to errand cells (4 GiB at most, least recently used rebuilt); manhattan = |dx| + |dy|, no tables (the start kit's choice on maps over 90,000 cells); auto = exact unless the 4 GiB hold tables for fewer than twice the robots (e.g. 10,000 robots on 2.2 million cells)",
@@ -94,7 +99,7 @@ pub const PIBT_ENTRY: PlannerEntry<LifelongProblem> = PlannerEntry {
 
 /// lifelong-lns's parameters: lifelong-pibt's, with a window of 10 steps and the `hungarian`
 /// scheduler (`matching` above `hungarian_max`).
-const LNS_PARAMS: [Param; 11] = [
+const LNS_PARAMS: [Param; 12] = [
     Param {
         name: "scheduler",
         default: "hungarian",
@@ -118,6 +123,7 @@ const LNS_PARAMS: [Param; 11] = [
     },
     PIBT_PARAMS[8],
     PIBT_PARAMS[9],
+    PIBT_PARAMS[10],
 ];
 
 /// Windowed PIBT refined by LNS in the planner registry ([`crate::window_lns`]).
@@ -149,6 +155,7 @@ fn build(name: &'static str, p: &mrpp_core::Params) -> mrpp_core::Result<Lifelon
         },
         guide_replans: p.get_in("guide_replans", 0..=1_000_000)?,
         turn_distances: p.choice("distances", &["hops", "turns"])? == 1,
+        hold: p.choice("commitment", &["hold", "prefer"])? == 0,
         tables: match p.choice("distance_tables", &["auto", "exact", "manhattan"])? {
             0 => TableKind::Auto,
             1 => TableKind::Exact,
@@ -203,6 +210,9 @@ pub struct LifelongPibt {
     pub guide_replans: usize,
     /// Under `MAPF_T`, rank cells by rotation-aware distances ([`TurnDistances`]).
     pub turn_distances: bool,
+    /// Under `MAPF_T`, keep the cell a robot turned towards reserved
+    /// ([`RotationPibt::hold`]).
+    pub hold: bool,
     /// Exact distance tables or Manhattan distances ([`crate::distances`], "Large maps").
     /// Rotation-aware tables are built only with exact ones.
     pub tables: TableKind,
@@ -219,6 +229,7 @@ impl Planner<LifelongProblem> for LifelongPibt {
         let vertices = problem.map().graph().num_vertices();
         let n = problem.starts().len();
         let mut pibt = RotationPibt::new(n, vertices, ctx.seed);
+        pibt.hold = self.hold;
         let density = n as f64 / vertices.max(1) as f64;
         let mut windowed = self
             .lns

@@ -221,3 +221,37 @@ fn manhattan_distances_give_valid_runs_and_auto_keeps_exact_tables_where_they_fi
         );
     }
 }
+
+/// `commitment=hold` (the kit's `decided`: a robot keeps the cell it turned towards) and
+/// `prefer` both give valid runs on the maze under `MAPF_T` and differ (so the option acts);
+/// under `MAPF` (no turns) they are the same run.
+#[test]
+fn both_commitments_give_valid_runs_and_differ_only_with_rotations() {
+    for model in [ActionModel::MapfT, ActionModel::Mapf] {
+        let problem =
+            LifelongProblem::load(&data(EXAMPLES[1]), model, 150, Duration::from_secs(1)).unwrap();
+        let run = |commitment: &str| {
+            let planner = PLANNERS[0]
+                .instantiate(&[("commitment".into(), commitment.into())])
+                .unwrap();
+            let ctx = Ctx {
+                seed: 5,
+                ..Ctx::default()
+            };
+            solve(planner.as_ref(), &problem, &ctx).unwrap_or_else(|e| panic!("{commitment}: {e}"))
+        };
+        let (hold, prefer) = (run("hold"), run("prefer"));
+        assert!(hold.metrics.tasks_finished > 0 && prefer.metrics.tasks_finished > 0);
+        eprintln!(
+            "{}: hold {} tasks, prefer {}",
+            model.name(),
+            hold.metrics.tasks_finished,
+            prefer.metrics.tasks_finished
+        );
+        if model == ActionModel::MapfT {
+            assert_ne!(hold.plan.actions, prefer.plan.actions);
+        } else {
+            assert_eq!(hold.plan.actions, prefer.plan.actions);
+        }
+    }
+}
