@@ -2,6 +2,8 @@
 //! the GP row turned the eleven rows after it into raw `|` text), and shell completion offers
 //! planner, family and world-kind names rather than file names (item 4).
 
+mod common;
+
 use std::path::{Path, PathBuf};
 
 /// What one run of `mrpp` gave: exit code, stdout, stderr.
@@ -732,57 +734,16 @@ fn an_unsolved_grid_plan_file_shows_its_starts_and_goals() {
     let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data");
     let d = |rel: &str| data.join(rel).to_string_lossy().into_owned();
     let dir = std::env::temp_dir().join(format!("mrpp-unsolved-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
     let (map, scen) = (
         d("movingai/random-32-32-20.map"),
         d("movingai/random-32-32-20-random-1.scen"),
     );
-    let inputs = ["--map", map.as_str(), "--scen", scen.as_str(), "-N", "10"];
-    let solved = dir.join("solved.json");
-    let ran = mrpp_in(
+    common::unsolved_plan_file_is_drawn(
         &dir,
-        &[
-            &["solve", "-P", "pibt", "-o", solved.to_str().unwrap()][..],
-            &inputs[..],
-        ]
-        .concat(),
+        &["--map", map.as_str(), "--scen", scen.as_str(), "-N", "10"],
+        "pibt",
+        |verb, err, _| assert!(err.contains("only the starts and goals"), "{verb}: {err}"),
     );
-    assert_eq!(ran.code, Some(0), "{}", ran.err);
-    let text = std::fs::read_to_string(&solved).unwrap();
-    assert!(text.contains("\"solved\": true"), "{text}");
-    let unsolved = dir.join("unsolved.json");
-    std::fs::write(
-        &unsolved,
-        text.replace("\"solved\": true", "\"solved\": false")
-            .replace("\"status\": \"solved\"", "\"status\": \"time_limit\""),
-    )
-    .unwrap();
-    let u = unsolved.to_str().unwrap();
-    let svg = dir.join("unsolved.svg");
-    let html = dir.join("unsolved.html");
-    for (verb, out) in [("render", &svg), ("view", &html)] {
-        let ran = mrpp_in(
-            &dir,
-            &[
-                &[verb, "--plan", u, "-o", out.to_str().unwrap()][..],
-                &inputs[..],
-            ]
-            .concat(),
-        );
-        assert_eq!(ran.code, Some(0), "{verb}: {}", ran.err);
-        assert!(
-            ran.err.contains("holds no plan (solved=false")
-                && ran.err.contains("only the starts and goals"),
-            "{verb}: {}",
-            ran.err
-        );
-        assert!(std::fs::metadata(out).unwrap().len() > 0);
-    }
-    let ran = mrpp_in(
-        &dir,
-        &[&["validate", "--plan", u][..], &inputs[..]].concat(),
-    );
-    assert_eq!(ran.code, Some(1), "{}", ran.err);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -793,55 +754,13 @@ fn an_unsolved_grid_plan_file_shows_its_starts_and_goals() {
 fn an_unsolved_tree_plan_file_shows_its_starts_and_goals() {
     let data = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../data");
     let dir = std::env::temp_dir().join(format!("mrpp-unsolved-tree-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let instance = data
-        .join("trees/example.json")
-        .to_string_lossy()
-        .into_owned();
-    let inputs = ["--instance", instance.as_str()];
-    let solved = dir.join("solved.json");
-    let ran = mrpp_in(
+    let instance = data.join("trees/example.json");
+    common::unsolved_plan_file_is_drawn(
         &dir,
-        &[
-            &["solve", "-P", "psw", "-o", solved.to_str().unwrap()][..],
-            &inputs[..],
-        ]
-        .concat(),
+        &["--instance", instance.to_str().unwrap()],
+        "psw",
+        |_, _, _| {},
     );
-    assert_eq!(ran.code, Some(0), "{}", ran.err);
-    let text = std::fs::read_to_string(&solved).unwrap();
-    assert!(text.contains("\"solved\": true"), "{text}");
-    let unsolved = dir.join("unsolved.json");
-    std::fs::write(
-        &unsolved,
-        text.replace("\"solved\": true", "\"solved\": false")
-            .replace("\"status\": \"solved\"", "\"status\": \"time_limit\""),
-    )
-    .unwrap();
-    let u = unsolved.to_str().unwrap();
-    for (verb, out) in [("render", "unsolved.svg"), ("view", "unsolved.html")] {
-        let out = dir.join(out);
-        let ran = mrpp_in(
-            &dir,
-            &[
-                &[verb, "--plan", u, "-o", out.to_str().unwrap()][..],
-                &inputs[..],
-            ]
-            .concat(),
-        );
-        assert_eq!(ran.code, Some(0), "{verb}: {}", ran.err);
-        assert!(
-            ran.err.contains("holds no plan (solved=false"),
-            "{verb}: {}",
-            ran.err
-        );
-        assert!(std::fs::metadata(&out).unwrap().len() > 0);
-    }
-    let ran = mrpp_in(
-        &dir,
-        &[&["validate", "--plan", u][..], &inputs[..]].concat(),
-    );
-    assert_eq!(ran.code, Some(1), "{}", ran.err);
     let _ = std::fs::remove_dir_all(&dir);
 }
 

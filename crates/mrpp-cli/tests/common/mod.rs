@@ -46,3 +46,52 @@ pub fn every_svg_rasterises(dir: &Path) -> usize {
     }
     checked
 }
+
+/// Issue 30, item 11, for any family: solves `inputs` (absolute paths) with `planner` in `dir`,
+/// rewrites the plan file to say `solved: false`, then checks that `render` and `view` of it
+/// exit 0 with "holds no plan (solved=false" on stderr and a non-empty picture (`check` gets the
+/// verb, the stderr and the picture's path for more), and that `validate` refuses it (exit 1).
+#[allow(dead_code)]
+pub fn unsolved_plan_file_is_drawn(
+    dir: &Path,
+    inputs: &[&str],
+    planner: &str,
+    check: impl Fn(&str, &str, &Path),
+) {
+    let run = |args: &[&str]| {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_mrpp"))
+            .args(args)
+            .args(inputs)
+            .current_dir(dir)
+            .output()
+            .expect("run mrpp");
+        (
+            o.status.code(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    };
+    std::fs::create_dir_all(dir).unwrap();
+    let solved = dir.join("solved.json");
+    let (code, err) = run(&["solve", "-P", planner, "-o", solved.to_str().unwrap()]);
+    assert_eq!(code, Some(0), "{err}");
+    let text = std::fs::read_to_string(&solved).unwrap();
+    assert!(text.contains("\"solved\": true"), "{text}");
+    let unsolved = dir.join("unsolved.json");
+    std::fs::write(
+        &unsolved,
+        text.replace("\"solved\": true", "\"solved\": false")
+            .replace("\"status\": \"solved\"", "\"status\": \"time_limit\""),
+    )
+    .unwrap();
+    let u = unsolved.to_str().unwrap();
+    for (verb, name) in [("render", "unsolved.svg"), ("view", "unsolved.html")] {
+        let pic = dir.join(name);
+        let (code, err) = run(&[verb, "--plan", u, "-o", pic.to_str().unwrap()]);
+        assert_eq!(code, Some(0), "{verb}: {err}");
+        assert!(err.contains("holds no plan (solved=false"), "{verb}: {err}");
+        assert!(std::fs::metadata(&pic).unwrap().len() > 0, "{verb}");
+        check(verb, &err, &pic);
+    }
+    let (code, err) = run(&["validate", "--plan", u]);
+    assert_eq!(code, Some(1), "{err}");
+}
