@@ -40,7 +40,7 @@ use rand_chacha::ChaCha8Rng;
 
 use mrpp_core::{Ctx, Param, Planner, PlannerEntry, Unsolved};
 
-use crate::paths::{dijkstra, eliminate_loops, paths_up_to};
+use crate::paths::{dijkstra, eliminate_loops, k_shortest_paths};
 use crate::planners::sequential_paths;
 use crate::problem::{FormationPlan, FormationProblem};
 
@@ -209,7 +209,6 @@ impl Ga {
         if seq.len() < p.robots() {
             return None;
         }
-        let none = mrpp_core::Deadline::none();
         if self.random_start {
             let r = p.roadmap();
             let banned = vec![false; r.num_vertices()];
@@ -229,15 +228,7 @@ impl Ga {
             return Some(pop);
         }
         let mut pop = vec![Individual::new(p, seq)];
-        let shortest = paths_up_to(
-            p.roadmap(),
-            p.start(),
-            p.goal(),
-            f64::MAX,
-            self.population,
-            &none,
-        )
-        .unwrap_or_default();
+        let shortest = k_shortest_paths(p.roadmap(), p.start(), p.goal(), self.population);
         let mut k = 0;
         while pop.len() < self.population {
             let paths = if pop.len() % 2 == 1 || k >= shortest.len() {

@@ -153,6 +153,10 @@ pub enum Cut {
 
 /// Simple paths from `from` to `to` in non-decreasing length (Yen's algorithm), every path of
 /// length at most `bound`, at most `limit` of them; the deadline is checked once per path.
+///
+/// # Errors
+/// [`Cut::Limit`] when more than `limit` paths are within the bound, [`Cut::Deadline`] when the
+/// deadline passes first.
 pub fn paths_up_to(
     r: &Roadmap,
     from: u32,
@@ -161,10 +165,33 @@ pub fn paths_up_to(
     limit: usize,
     deadline: &mrpp_core::Deadline,
 ) -> Result<Vec<(Vec<u32>, f64)>, Cut> {
+    let (found, cut) = yen(r, from, to, bound, limit, deadline);
+    match cut {
+        Some(c) => Err(c),
+        None => Ok(found),
+    }
+}
+
+/// The `k` shortest simple paths from `from` to `to` (fewer when there are fewer), with their
+/// lengths, in non-decreasing length (Yen's algorithm).
+pub fn k_shortest_paths(r: &Roadmap, from: u32, to: u32, k: usize) -> Vec<(Vec<u32>, f64)> {
+    yen(r, from, to, f64::MAX, k, &mrpp_core::Deadline::none()).0
+}
+
+/// Yen's algorithm: the paths found, and why it stopped early (`None`: every path within
+/// `bound` is listed).
+fn yen(
+    r: &Roadmap,
+    from: u32,
+    to: u32,
+    bound: f64,
+    limit: usize,
+    deadline: &mrpp_core::Deadline,
+) -> (Vec<(Vec<u32>, f64)>, Option<Cut>) {
     let len = |e: u32, _: u32, _: u32| r.edges[e as usize].length;
     let n = r.num_vertices();
     let Some(first) = dijkstra(r, from, to, &vec![false; n], &len) else {
-        return Ok(Vec::new());
+        return (Vec::new(), None);
     };
     let mut found: Vec<(Vec<u32>, f64)> = Vec::new();
     // Candidates in a min-heap by (length, path); every path ever queued, to queue it once; per
@@ -180,10 +207,10 @@ pub fn paths_up_to(
             break;
         }
         if found.len() == limit {
-            return Err(Cut::Limit);
+            return (found, Some(Cut::Limit));
         }
         if deadline.expired() {
-            return Err(Cut::Deadline);
+            return (found, Some(Cut::Deadline));
         }
         for i in 0..path.len() - 1 {
             next_of
@@ -218,7 +245,7 @@ pub fn paths_up_to(
         }
         found.push((path, cost));
     }
-    Ok(found)
+    (found, None)
 }
 
 #[cfg(test)]
@@ -260,6 +287,11 @@ mod tests {
         }
         assert_eq!(paths_up_to(&r, 0, 8, 4.0, 6, &none()).unwrap().len(), 6);
         assert_eq!(paths_up_to(&r, 0, 8, 4.0, 5, &none()), Err(Cut::Limit));
+        // The first k of them whatever their length (the GA's initial variants).
+        let all = paths_up_to(&r, 0, 8, f64::MAX, 10_000, &none()).unwrap();
+        assert!(all.len() > 5);
+        assert_eq!(k_shortest_paths(&r, 0, 8, 5), all[..5]);
+        assert_eq!(k_shortest_paths(&r, 0, 8, 10_000), all);
         assert_eq!(eliminate_loops(&[0, 1, 2, 1, 4, 0, 3]), vec![0, 3]);
     }
 }
