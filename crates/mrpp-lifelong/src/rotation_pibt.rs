@@ -21,8 +21,9 @@
 //! the cell only goes first among equally good candidates at the next step. On the kit's
 //! `warehouse_large_5000` over 1,000 steps, holding raised lifelong-pibt's tasks finished from
 //! 11,346 to 13,057: without it robots in dense crowds turned back and forth (28% of all
-//! actions were turns by step 900, 14% with it). A robot that stays anyway turns towards its best neighbouring
-//! cell closer to its goal, so that it can move as soon as the cell is free; and a
+//! actions were turns by step 900, 14% with it). A robot that stays anyway turns towards its
+//! best neighbouring cell closer to its goal, so that it can move as soon as the cell is free;
+//! and a
 //! robot moves forward only if the robot on its target cell moves away this step too (the kit's
 //! `moveCheck`), which is settled by stopping, transitively, every robot headed for the cell of
 //! a robot that stays. Cycles of robots moving forward together are kept (the kit allows them).
