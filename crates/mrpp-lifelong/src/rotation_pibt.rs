@@ -209,7 +209,15 @@ impl RotationPibt {
                 let c = self.committed[i];
                 // (A caller may have executed other actions than PIBT's, e.g. windowed LNS:
                 // then the cell may no longer be a neighbour.)
+                // Two robots holding each other's cells would swap: neither holds.
+                let k = if c == UNSET {
+                    NIL
+                } else {
+                    self.occupied_now[c as usize]
+                };
+                let mutual = k != NIL && k != i && self.committed[k] == self.now[i];
                 if c != UNSET
+                    && !mutual
                     && self.still[i] < STUCK_AFTER
                     && self.occupied_next[c as usize] == NIL
                     && graph.has_edge(self.now[i], c)
@@ -347,5 +355,68 @@ impl RotationPibt {
             }
         }
         actions
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::PathBuf;
+    use std::time::Duration;
+
+    use mrpp_mapf::GridMap;
+    use mrpp_mapf::lorr_files::LorrFiles;
+
+    use super::*;
+
+    /// A 1 x 4 corridor under `MAPF_T` with robots on cells 1 and 2.
+    fn corridor() -> LifelongProblem {
+        let map = GridMap::from_free_rows(&[vec![true; 4]]);
+        let files = LorrFiles {
+            path: PathBuf::from("p.json"),
+            map_path: PathBuf::from("m.map"),
+            agent_path: PathBuf::from("a.agents"),
+            task_path: PathBuf::from("t.tasks"),
+            map,
+            start_lines: vec![0, 1],
+            starts: vec![1, 2],
+            task_lines: vec![0, 1],
+            tasks: vec![vec![3, 0], vec![0, 3]],
+            num_tasks_reveal: 1.0,
+            version: "2024 LoRR".into(),
+            json: serde_json::Value::Null,
+        };
+        LifelongProblem::new(files, ActionModel::MapfT, 10, Duration::from_secs(1))
+    }
+
+    /// Two robots facing each other whose held cells are each other's (a caller executed other
+    /// actions than PIBT's, as windowed LNS may): neither holds, so they do not swap.
+    #[test]
+    fn robots_holding_each_others_cells_do_not_swap() {
+        let problem = corridor();
+        // Robot 0 on cell 1 facing east (0), robot 1 on cell 2 facing west (2); each heads past
+        // the other.
+        let states = [
+            State {
+                vertex: 1,
+                orientation: 0,
+            },
+            State {
+                vertex: 2,
+                orientation: 2,
+            },
+        ];
+        let goals = [3, 0];
+        let mut dist = Distances::new(4, 1 << 20);
+        for seed in 0..20 {
+            let mut pibt = RotationPibt::new(2, 4, seed);
+            // A first step sets the goals; then each robot holds the other's cell.
+            pibt.step(&problem, &states, &goals, &mut dist, None, None);
+            pibt.committed = vec![2, 1];
+            let actions = pibt.step(&problem, &states, &goals, &mut dist, None, None);
+            assert!(
+                !(actions[0] == Action::Forward && actions[1] == Action::Forward),
+                "seed {seed}: {actions:?}"
+            );
+        }
     }
 }
