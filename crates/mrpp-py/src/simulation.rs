@@ -11,7 +11,7 @@ use serde_json::{Value, json};
 
 use mrpp_cli::api;
 use mrpp_core::Deadline;
-use mrpp_lifelong::distances::{DEFAULT_BUDGET, Distances};
+use mrpp_lifelong::distances::{DEFAULT_BUDGET, Distances, TableKind};
 use mrpp_lifelong::lorr_output::to_json;
 use mrpp_lifelong::runner::Run;
 use mrpp_lifelong::scheduler::{Scheduler, SchedulerKind};
@@ -42,9 +42,12 @@ impl Simulation {
     fn new(inputs_json: &str) -> PyResult<Self> {
         let problem = api::load_lifelong(&inputs(inputs_json)?).map_err(MrppError::new_err)?;
         let vertices = problem.map().graph().num_vertices();
+        let robots = problem.starts().len();
         Ok(Simulation {
             cell: Cell::new(problem, |p| Run::new(p)),
-            dist: Distances::new(vertices, DEFAULT_BUDGET),
+            // The planners' default (`distance_tables=auto`): Manhattan distances where 4 GiB of
+            // tables would not hold twice the robots' goals.
+            dist: Distances::of_kind(TableKind::Auto, vertices, robots, DEFAULT_BUDGET),
         })
     }
 
@@ -153,7 +156,9 @@ impl Simulation {
     /// A proposed assignment (each robot's task id or None) by mrpp's scheduler `kind`
     /// (`greedy`: the start kit's; `hungarian`; `matching`), within `time_limit` seconds;
     /// a task costs d(robot, next errand) + `chain_weight` x its later errands' distances
-    /// (1: the start kit's cost; 0: pickup distance only).
+    /// (1: the start kit's cost; 0: pickup distance only). Distances are breadth-first hop
+    /// counts, or Manhattan distances on maps where 4 GiB of tables would not hold twice the
+    /// robots' goals (the planners' `distance_tables=auto`).
     #[pyo3(signature = (kind="greedy", time_limit=0.5, chain_weight=1.0))]
     fn schedule(
         &mut self,
