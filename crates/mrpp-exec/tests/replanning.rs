@@ -25,6 +25,18 @@ fn data(rel: &str) -> std::path::PathBuf {
 
 const SIZE: f64 = 0.5;
 
+/// ADG execution, `ticks_per_move` ticks a move, delays `spec` drawn from `seed`.
+fn adg(ticks_per_move: u32, spec: &str, seed: u64) -> ExecConfig {
+    ExecConfig {
+        executor: ExecutorKind::Adg,
+        ticks_per_move,
+        delays: DelayConfig::parse(spec).unwrap(),
+        seed,
+        agent_size: SIZE,
+        max_ticks: 1_000_000,
+    }
+}
+
 fn lacam_plan(problem: &MapfProblem, seed: u64) -> Option<Plan> {
     let planner = lacam_planner();
     let ctx = Ctx::new(seed, Deadline::after(Duration::from_secs(5)));
@@ -57,14 +69,7 @@ fn adg_with_replanning_stays_collision_free_and_its_executed_plan_is_valid() {
         for counter in [1, 3] {
             for drift in [4, 16] {
                 for seed in 0..8u64 {
-                    let cfg = ExecConfig {
-                        executor: ExecutorKind::Adg,
-                        ticks_per_move: counter,
-                        delays: DelayConfig::parse(spec).unwrap(),
-                        seed,
-                        agent_size: SIZE,
-                        max_ticks: 1_000_000,
-                    };
+                    let cfg = adg(counter, spec, seed);
                     let mut replanner =
                         Replanner::new(&problem, lacam.as_ref(), seed, Duration::from_secs(5));
                     let mut planner = |at: &[VertexId]| replanner.plan(at);
@@ -114,14 +119,7 @@ fn a_replanner_that_finds_nothing_leaves_the_execution_unchanged() {
     )
     .unwrap();
     let plan = lacam_plan(&problem, 0).unwrap();
-    let cfg = ExecConfig {
-        executor: ExecutorKind::Adg,
-        ticks_per_move: 2,
-        delays: DelayConfig::parse("bernoulli:p=0.05,min=2,max=6").unwrap(),
-        seed: 3,
-        agent_size: SIZE,
-        max_ticks: 1_000_000,
-    };
+    let cfg = adg(2, "bernoulli:p=0.05,min=2,max=6", 3);
     let plain = execute(&grid, &plan, &cfg);
     let mut nothing = |_: &[VertexId]| None;
     let (run, executed) = execute_replanning(
@@ -172,14 +170,7 @@ fn a_replanner_keeps_an_invalid_plan_as_an_error() {
     )
     .unwrap();
     let plan = lacam_plan(&problem, 0).unwrap();
-    let cfg = ExecConfig {
-        executor: ExecutorKind::Adg,
-        ticks_per_move: 2,
-        delays: DelayConfig::parse("bernoulli:p=0.05,min=2,max=6").unwrap(),
-        seed: 1,
-        agent_size: SIZE,
-        max_ticks: 1_000_000,
-    };
+    let cfg = adg(2, "bernoulli:p=0.05,min=2,max=6", 1);
     let mut replanner = Replanner::new(&problem, &Teleport, 0, Duration::from_secs(1));
     let mut planner = |at: &[VertexId]| replanner.plan(at);
     let (run, executed) = execute_replanning(

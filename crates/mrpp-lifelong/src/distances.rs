@@ -73,14 +73,19 @@ impl Cache {
     /// Room for `vertices` targets' tables of `entries` entries each within `budget` bytes (at
     /// least one table); `narrow` says whether entries take 2 bytes (else 4).
     fn new(vertices: usize, entries: usize, narrow: bool, budget: usize) -> Self {
-        let per_table = entries.max(1) * if narrow { 2 } else { 4 };
         Cache {
             tables: (0..vertices).map(|_| None).collect(),
             live: Vec::new(),
-            max_tables: (budget / per_table).max(1),
+            max_tables: Cache::capacity(entries, narrow, budget),
             clock: 0,
             built: 0,
         }
+    }
+
+    /// How many tables of `entries` entries (2 bytes each when `narrow`, else 4) fit in
+    /// `budget` bytes, at least one.
+    fn capacity(entries: usize, narrow: bool, budget: usize) -> usize {
+        (budget / (entries.max(1) * if narrow { 2 } else { 4 })).max(1)
     }
 
     /// The table of `to`, built by `build` if it is not live.
@@ -126,32 +131,32 @@ impl TableKind {
         match self {
             TableKind::Exact => true,
             TableKind::Manhattan => false,
-            TableKind::Auto => {
-                let narrow = vertices < u16::MAX as usize;
-                let per_table = vertices.max(1) * if narrow { 2 } else { 4 };
-                budget / per_table >= 2 * robots
-            }
+            TableKind::Auto => Cache::capacity(vertices, narrow(vertices), budget) >= 2 * robots,
         }
     }
+}
+
+/// Whether hop tables of a graph of `vertices` vertices take 2-byte entries.
+fn narrow(vertices: usize) -> bool {
+    vertices < u16::MAX as usize
 }
 
 /// Hop-distance tables by target vertex, or Manhattan distances (module doc).
 #[derive(Debug)]
 pub struct Distances {
-    cache: Cache,
+    /// The tables; `None`: Manhattan distances, no table.
+    cache: Option<Cache>,
     narrow: bool,
-    manhattan: bool,
 }
 
 impl Distances {
     /// No table yet, for a graph of `vertices` vertices, at most `budget` bytes of tables (at
     /// least one table).
     pub fn new(vertices: usize, budget: usize) -> Self {
-        let narrow = vertices < u16::MAX as usize;
+        let narrow = narrow(vertices);
         Distances {
-            cache: Cache::new(vertices, vertices, narrow, budget),
+            cache: Some(Cache::new(vertices, vertices, narrow, budget)),
             narrow,
-            manhattan: false,
         }
     }
 
@@ -159,9 +164,8 @@ impl Distances {
     /// table is ever built.
     pub fn manhattan() -> Self {
         Distances {
-            cache: Cache::new(0, 0, true, 0),
+            cache: None,
             narrow: true,
-            manhattan: true,
         }
     }
 
@@ -177,56 +181,54 @@ impl Distances {
 
     /// Whether distances are exact hop counts (else Manhattan lower bounds).
     pub fn is_exact(&self) -> bool {
-        !self.manhattan
+        self.cache.is_some()
     }
 
     /// Hop distance from `from` to `to` ([`UNREACHABLE`] in another component); the Manhattan
     /// distance in Manhattan mode.
     pub fn get(&mut self, graph: &Graph, from: VertexId, to: VertexId) -> u32 {
-        if self.manhattan {
-            return graph.manhattan(from, to);
+        match self.table(graph, to) {
+            Some(t) => t.get(from),
+            None => graph.manhattan(from, to),
         }
-        self.table(graph, to).get(from)
     }
 
     /// Hop distances to `to` from each of `from`, in order (one table look-up).
     pub fn to(&mut self, graph: &Graph, to: VertexId, from: &[VertexId], out: &mut Vec<u32>) {
         out.clear();
-        if self.manhattan {
-            out.extend(from.iter().map(|&v| graph.manhattan(v, to)));
-            return;
+        match self.table(graph, to) {
+            Some(t) => out.extend(from.iter().map(|&v| t.get(v))),
+            None => out.extend(from.iter().map(|&v| graph.manhattan(v, to))),
         }
-        let table = self.table(graph, to);
-        out.extend(from.iter().map(|&v| table.get(v)));
     }
 
     /// Builds the tables of `targets` not built yet, in order, until one of `deadlines` passes or
     /// the budget is full (the kit's preprocessing); returns how many tables are live (0 in
     /// Manhattan mode).
     pub fn warm(&mut self, graph: &Graph, targets: &[VertexId], deadlines: &[Deadline]) -> usize {
-        if self.manhattan {
+        let Some(cache) = self.cache.as_mut() else {
             return 0;
-        }
+        };
+        let narrow = self.narrow;
         for &t in targets {
-            if self.cache.live.len() >= self.cache.max_tables
-                || deadlines.iter().any(Deadline::expired)
-            {
+            if cache.live.len() >= cache.max_tables || deadlines.iter().any(Deadline::expired) {
                 break;
             }
-            self.table(graph, t);
+            cache.ensure(t, || Table::of(bfs_distances(graph, t), narrow));
         }
-        self.cache.live.len()
+        cache.live.len()
     }
 
-    /// Tables built so far (rebuilt ones counted again).
+    /// Tables built so far (rebuilt ones counted again; 0 in Manhattan mode).
     pub fn built(&self) -> usize {
-        self.cache.built
+        self.cache.as_ref().map_or(0, |c| c.built)
     }
 
-    fn table(&mut self, graph: &Graph, to: VertexId) -> &Table {
+    /// The table of `to` (built if needed), or `None` in Manhattan mode.
+    fn table(&mut self, graph: &Graph, to: VertexId) -> Option<&Table> {
         let narrow = self.narrow;
-        self.cache
-            .ensure(to, || Table::of(bfs_distances(graph, to), narrow))
+        let cache = self.cache.as_mut()?;
+        Some(cache.ensure(to, || Table::of(bfs_distances(graph, to), narrow)))
     }
 }
 
@@ -395,7 +397,7 @@ mod tests {
                 }
             }
         }
-        assert!(d.cache.live.len() <= 2);
+        assert!(d.cache.as_ref().unwrap().live.len() <= 2);
         assert!(d.built() > n);
     }
 

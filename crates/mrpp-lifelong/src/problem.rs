@@ -417,3 +417,31 @@ pub fn replay<'p>(
     }
     Ok(sim)
 }
+
+/// A problem for unit tests: `map` with robots on `starts` and `tasks`, `reveal` tasks per robot
+/// open, 10 steps of 1 s under `model` (file names made up).
+#[cfg(test)]
+pub(crate) fn test_problem(
+    map: mrpp_mapf::GridMap,
+    starts: Vec<VertexId>,
+    tasks: Vec<Vec<VertexId>>,
+    reveal: f64,
+    model: crate::model::ActionModel,
+) -> LifelongProblem {
+    use std::path::PathBuf;
+    let files = mrpp_mapf::lorr_files::LorrFiles {
+        path: PathBuf::from("p.json"),
+        map_path: PathBuf::from("m.map"),
+        agent_path: PathBuf::from("a.agents"),
+        task_path: PathBuf::from("t.tasks"),
+        map,
+        start_lines: (0..starts.len()).collect(),
+        starts,
+        task_lines: (0..tasks.len()).collect(),
+        tasks,
+        num_tasks_reveal: reveal,
+        version: "2024 LoRR".into(),
+        json: serde_json::Value::Null,
+    };
+    LifelongProblem::new(files, model, 10, std::time::Duration::from_secs(1))
+}

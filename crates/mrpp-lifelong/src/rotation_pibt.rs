@@ -360,32 +360,21 @@ impl RotationPibt {
 
 #[cfg(test)]
 mod tests {
-    use std::path::PathBuf;
-    use std::time::Duration;
-
     use mrpp_mapf::GridMap;
-    use mrpp_mapf::lorr_files::LorrFiles;
 
     use super::*;
+    use crate::problem::test_problem;
 
     /// A 1 x 4 corridor under `MAPF_T` with robots on cells 1 and 2.
     fn corridor() -> LifelongProblem {
         let map = GridMap::from_free_rows(&[vec![true; 4]]);
-        let files = LorrFiles {
-            path: PathBuf::from("p.json"),
-            map_path: PathBuf::from("m.map"),
-            agent_path: PathBuf::from("a.agents"),
-            task_path: PathBuf::from("t.tasks"),
+        test_problem(
             map,
-            start_lines: vec![0, 1],
-            starts: vec![1, 2],
-            task_lines: vec![0, 1],
-            tasks: vec![vec![3, 0], vec![0, 3]],
-            num_tasks_reveal: 1.0,
-            version: "2024 LoRR".into(),
-            json: serde_json::Value::Null,
-        };
-        LifelongProblem::new(files, ActionModel::MapfT, 10, Duration::from_secs(1))
+            vec![1, 2],
+            vec![vec![3, 0], vec![0, 3]],
+            1.0,
+            ActionModel::MapfT,
+        )
     }
 
     /// Two robots facing each other whose held cells are each other's (a caller executed other

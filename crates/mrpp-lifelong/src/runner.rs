@@ -348,39 +348,38 @@ pub fn run(
     // Preprocessing (the kit's `initialize`): distance tables of the errands of the tasks
     // revealed first (the pool, then as many again as there are robots), in the order they will
     // be revealed, within the preprocessing time and the tables' budget.
+    // With Manhattan distances there is nothing to build.
     let started = Instant::now();
-    let mut seen = rustc_hash::FxHashSet::default();
-    let file = problem.task_file();
-    let errands: Vec<VertexId> = (0..problem.reveal_pool() + n)
-        .flat_map(|k| &file[k % file.len()])
-        .copied()
-        .filter(|&v| seen.insert(v))
-        .collect();
-    let prep = Deadline::after(problem.preprocess_time());
-    if !dist.is_exact() {
+    if dist.is_exact() {
+        let mut seen = rustc_hash::FxHashSet::default();
+        let file = problem.task_file();
+        let errands: Vec<VertexId> = (0..problem.reveal_pool() + n)
+            .flat_map(|k| &file[k % file.len()])
+            .copied()
+            .filter(|&v| seen.insert(v))
+            .collect();
+        let prep = Deadline::after(problem.preprocess_time());
+        for (k, chunk) in errands.chunks(256).enumerate() {
+            let live = dist.warm(graph, chunk, &[prep, ctx.deadline]);
+            prepare(chunk, &[prep, ctx.deadline]);
+            ctx.report(Progress {
+                stage: "preprocessing",
+                done: ((k * 256) + chunk.len()) as u64,
+                total: errands.len() as u64,
+                note: format!("{live} distance tables"),
+            });
+            if prep.expired() || ctx.deadline.expired() || live < (k * 256) + chunk.len() {
+                // Out of time, or the tables' budget is full.
+                break;
+            }
+        }
+    } else {
         ctx.report(Progress {
             stage: "preprocessing",
             done: 0,
             total: 0,
             note: "Manhattan distances: no tables (distance_tables)".into(),
         });
-    }
-    for (k, chunk) in errands.chunks(256).enumerate() {
-        if !dist.is_exact() {
-            break;
-        }
-        let live = dist.warm(graph, chunk, &[prep, ctx.deadline]);
-        prepare(chunk, &[prep, ctx.deadline]);
-        ctx.report(Progress {
-            stage: "preprocessing",
-            done: ((k * 256) + chunk.len()) as u64,
-            total: errands.len() as u64,
-            note: format!("{live} distance tables"),
-        });
-        if prep.expired() || ctx.deadline.expired() || live < (k * 256) + chunk.len() {
-            // Out of time, or the tables' budget is full.
-            break;
-        }
     }
     if let Some(model) = problem.execution() {
         let preprocess_time = started.elapsed().as_secs_f64();

@@ -342,18 +342,16 @@ fn hungarian(
 
 #[cfg(test)]
 mod tests {
-    use std::path::PathBuf;
     use std::time::Duration;
 
     use mrpp_core::mapf::graph::VertexId;
     use mrpp_core::mapf::search::distance::bfs_distances;
     use mrpp_mapf::GridMap;
-    use mrpp_mapf::lorr_files::LorrFiles;
     use proptest::prelude::*;
 
     use super::*;
     use crate::model::ActionModel;
-    use crate::problem::LifelongProblem;
+    use crate::problem::{LifelongProblem, test_problem};
 
     /// A 6 x 6 map with the blocked cells of `walls` (0..36), robots on `starts` and tasks of
     /// two errands each (vertex indices modulo the free cells), 1.5 tasks per robot revealed.
@@ -377,31 +375,7 @@ mod tests {
             .iter()
             .map(|&(a, b)| vec![(a % n) as VertexId, (b % n) as VertexId])
             .collect();
-        on(map, starts, tasks, 1.5)
-    }
-
-    /// The problem of `map` with robots on `starts` and `tasks`, `reveal` tasks per robot open.
-    fn on(
-        map: GridMap,
-        starts: Vec<VertexId>,
-        tasks: Vec<Vec<VertexId>>,
-        reveal: f64,
-    ) -> LifelongProblem {
-        let files = LorrFiles {
-            path: PathBuf::from("p.json"),
-            map_path: PathBuf::from("m.map"),
-            agent_path: PathBuf::from("a.agents"),
-            task_path: PathBuf::from("t.tasks"),
-            map,
-            start_lines: (0..starts.len()).collect(),
-            starts,
-            task_lines: (0..tasks.len()).collect(),
-            tasks,
-            num_tasks_reveal: reveal,
-            version: "2024 LoRR".into(),
-            json: serde_json::Value::Null,
-        };
-        LifelongProblem::new(files, ActionModel::Mapf, 10, Duration::from_secs(1))
+        test_problem(map, starts, tasks, 1.5, ActionModel::Mapf)
     }
 
     /// The rule written out plainly: every (robot, task) pair with its cost, sorted by (cost,
@@ -459,7 +433,13 @@ mod tests {
     fn matching_and_hungarian_differ_where_greedy_matching_is_short_sighted() {
         let rows = vec![vec![true; 11]];
         let map = GridMap::from_free_rows(&rows);
-        let problem = on(map, vec![0, 6], vec![vec![5, 5], vec![10, 10]], 1.0);
+        let problem = test_problem(
+            map,
+            vec![0, 6],
+            vec![vec![5, 5], vec![10, 10]],
+            1.0,
+            ActionModel::Mapf,
+        );
         let sim = Simulation::new(&problem);
         let mut dist = Distances::new(11, 1 << 20);
         let far = Deadline::after(Duration::from_secs(60));
@@ -477,7 +457,13 @@ mod tests {
     fn the_chain_weight_trades_near_pickups_for_short_tasks() {
         let rows = vec![vec![true; 16]];
         let map = GridMap::from_free_rows(&rows);
-        let problem = on(map, vec![4], vec![vec![5, 15], vec![0, 1]], 2.0);
+        let problem = test_problem(
+            map,
+            vec![4],
+            vec![vec![5, 15], vec![0, 1]],
+            2.0,
+            ActionModel::Mapf,
+        );
         let sim = Simulation::new(&problem);
         let mut dist = Distances::new(16, 1 << 20);
         let far = Deadline::after(Duration::from_secs(60));
