@@ -160,8 +160,9 @@ impl GuidePaths {
         }
     }
 
-    /// Robot `i`'s hops from `cell` to its path and the moves left from where it meets it.
-    fn path_distance(&mut self, i: usize, cell: VertexId) -> (u32, u32) {
+    /// Robot `i`'s hops from `cell` to its path and the moves left from where it meets it
+    /// ([`UNREACHABLE`] hops for a cell in another component or a robot without a path).
+    pub fn path_distance(&mut self, i: usize, cell: VertexId) -> (u32, u32) {
         let Guide { reached, open, .. } = &mut self.guides[i];
         while !reached.contains_key(&cell) {
             let Some(c) = open.pop_front() else {

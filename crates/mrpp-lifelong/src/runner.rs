@@ -31,7 +31,7 @@ use crate::sim::Simulation;
 use crate::window_lns::{LnsOptions, WindowLns};
 
 /// lifelong-pibt's parameters: the scheduler, the guide paths and windowed LNS.
-const PIBT_PARAMS: [Param; 11] = [
+const PIBT_PARAMS: [Param; 12] = [
     Param {
         name: "scheduler",
         default: "greedy",
@@ -87,6 +87,11 @@ const PIBT_PARAMS: [Param; 11] = [
         default: "auto",
         doc: "exact = breadth-first distance tables to errand cells (4 GiB at most, least recently used rebuilt); manhattan = |dx| + |dy|, no tables (the start kit's choice on maps over 90,000 cells); auto = exact unless the 4 GiB hold tables for fewer than twice the robots (e.g. 10,000 robots on 2.2 million cells)",
     },
+    Param {
+        name: "reassign_margin",
+        default: "0",
+        doc: "steps in 0..=1000 a re-assignment by hungarian or matching must save: a robot's own task costs this much less for it, so robots on their way turn back less often; 0 = the plain minimum-cost assignment",
+    },
 ];
 
 /// Rolling PIBT with rotations in the planner registry.
@@ -99,7 +104,7 @@ pub const PIBT_ENTRY: PlannerEntry<LifelongProblem> = PlannerEntry {
 
 /// lifelong-lns's parameters: lifelong-pibt's, with a window of 10 steps and the `hungarian`
 /// scheduler (`matching` above `hungarian_max`).
-const LNS_PARAMS: [Param; 12] = [
+const LNS_PARAMS: [Param; 14] = [
     Param {
         name: "scheduler",
         default: "hungarian",
@@ -121,9 +126,15 @@ const LNS_PARAMS: [Param; 12] = [
         default: "0.2",
         doc: "above this share of the free cells covered by robots, plan one PIBT step per call (no window, no LNS): on the kit's warehouse map windowed LNS finished more tasks at 13% (5,000 robots) and far fewer at 26% (10,000 robots), where its rollouts leave the guide paths too little time",
     },
+    Param {
+        name: "lns_guide_weight",
+        default: "0",
+        doc: "k in 0..=64: LNS minimises a path's steps plus the actions still needed to the goal, and with k > 0 also the detour of the robot's traffic-flow guide path from where the path ends (k x hops to the guide path + the guide path's moves left - the hop distance), so re-planned paths keep the guide paths' lanes; 0 = plain distances (WPPL without a guidance graph)",
+    },
     PIBT_PARAMS[8],
     PIBT_PARAMS[9],
     PIBT_PARAMS[10],
+    PIBT_PARAMS[11],
 ];
 
 /// Windowed PIBT refined by LNS in the planner registry ([`crate::window_lns`]).
@@ -144,6 +155,7 @@ fn build(name: &'static str, p: &mrpp_core::Params) -> mrpp_core::Result<Lifelon
         },
         hungarian_max: p.get_in("hungarian_max", 1..=5000)?,
         chain_weight: p.get_in("chain_weight", 0.0..=10.0)?,
+        reassign_margin: p.get_in("reassign_margin", 0..=1000)?,
     };
     Ok(LifelongPibt {
         name,
@@ -171,6 +183,11 @@ fn build(name: &'static str, p: &mrpp_core::Params) -> mrpp_core::Result<Lifelon
                     p.get_in("lns_max_density", 0.0..=1.0)?
                 } else {
                     1.0
+                },
+                guide_weight: if name == LNS_ENTRY.name {
+                    p.get_in("lns_guide_weight", 0..=64)?
+                } else {
+                    0
                 },
             }),
         },

@@ -21,6 +21,13 @@
 //!   costed so far (the first revealed) are matched. Compared with `greedy` on the kit's
 //!   `sortation_large_2000` it raised the tasks finished in 300 steps by 11% (docs/lifelong.md).
 //!
+//! **Re-assignment margin** (`-p reassign_margin=M`, default 0). `hungarian` and `matching`
+//! move a task from a robot on its way to another whenever that lowers the total cost by a
+//! step; the robot then turns back, and under `MAPF_T` turning costs actions (on the kit's
+//! `warehouse_large_5000` a quarter of all actions were turns by step 900, docs/performance.md).
+//! With a margin `M`, a robot's own task costs `M` less for it, so a re-assignment must save
+//! more than `M` steps (the League does not say; 0 keeps the plain minimum-cost rule).
+//!
 //! **The cost** of giving task `k` to robot `r` is `d(r, e1) + w x (d(e1, e2) + d(e2, e3) + ...)`
 //! from the task's next errand on, `w` the `chain_weight` (`-p chain_weight=W`, default 1: the
 //! kit's cost). The errand chain is work the task needs whoever does it, so `w` says how much
@@ -60,6 +67,10 @@ pub struct Scheduler {
     pub hungarian_max: usize,
     /// The weight `w` of a task's errand chain in its cost (module doc); 1 = the kit's.
     pub chain_weight: f64,
+    /// Steps a re-assignment must save (module doc, "Re-assignment margin"): the cost of a
+    /// robot's own task is lowered by this much when `hungarian` and `matching` re-assign; 0 =
+    /// the plain minimum-cost rule.
+    pub reassign_margin: u32,
 }
 
 impl Scheduler {
@@ -69,6 +80,7 @@ impl Scheduler {
             kind,
             hungarian_max: 400,
             chain_weight: 1.0,
+            reassign_margin: 0,
         }
     }
 
@@ -82,14 +94,14 @@ impl Scheduler {
         deadline: Deadline,
     ) -> Vec<Option<usize>> {
         let w = self.chain_weight;
+        let m = self.reassign_margin;
         match self.kind {
             SchedulerKind::Greedy => greedy(sim, dist, w, deadline),
-            SchedulerKind::Hungarian => hungarian(sim, dist, w, self.hungarian_max, deadline)
-                .or_else(|| matching(sim, dist, w, deadline))
+            SchedulerKind::Hungarian => hungarian(sim, dist, w, m, self.hungarian_max, deadline)
+                .or_else(|| matching(sim, dist, w, m, deadline))
                 .unwrap_or_else(|| greedy(sim, dist, w, deadline)),
-            SchedulerKind::Matching => {
-                matching(sim, dist, w, deadline).unwrap_or_else(|| greedy(sim, dist, w, deadline))
-            }
+            SchedulerKind::Matching => matching(sim, dist, w, m, deadline)
+                .unwrap_or_else(|| greedy(sim, dist, w, deadline)),
         }
     }
 }
@@ -103,6 +115,7 @@ fn matching(
     sim: &Simulation<'_>,
     dist: &mut Distances,
     w: f64,
+    margin: u32,
     deadline: Deadline,
 ) -> Option<Vec<Option<usize>>> {
     let graph = sim.problem().map().graph();
@@ -148,9 +161,13 @@ fn matching(
         let chain = errand_chain(sim, dist, k, w);
         let t = &sim.tasks[k];
         dist.to(graph, t.errands[t.done], &cells, &mut row);
-        for &d in &row {
+        for (&d, &i) in row.iter().zip(&agents) {
             let c = if d == UNREACHABLE || chain == UNREACHABLE {
                 u16::MAX
+            } else if proposal[i] == Some(k) {
+                plus(d, chain)
+                    .saturating_sub(margin)
+                    .min(u32::from(u16::MAX) - 1) as u16
             } else {
                 plus(d, chain).min(u32::from(u16::MAX) - 1) as u16
             };
@@ -290,6 +307,7 @@ fn hungarian(
     sim: &Simulation<'_>,
     dist: &mut Distances,
     w: f64,
+    margin: u32,
     max: usize,
     deadline: Deadline,
 ) -> Option<Vec<Option<usize>>> {
@@ -319,7 +337,12 @@ fn hungarian(
             return None;
         }
         for (&k, &chain) in tasks.iter().zip(&chains) {
-            costs.push(cost(sim, dist, i, k, chain));
+            let c = cost(sim, dist, i, k, chain);
+            costs.push(if proposal[i] == Some(k) && c < FAR {
+                (c - i64::from(margin)).max(0)
+            } else {
+                c
+            });
         }
     }
     let matrix = Matrix::from_vec(agents.len(), tasks.len(), costs).expect("rows x columns");
@@ -483,6 +506,47 @@ mod tests {
                     "{kind:?} at w = {w}"
                 );
             }
+        }
+    }
+
+    /// A re-assignment must save more than the margin: on a corridor, robot 0 at cell 0 holds
+    /// the task at 12 and robot 1 at cell 9 the task at 5 (12 + 4 = 16 steps); swapping them
+    /// costs 5 + 3 = 8. With a margin of 3 (own tasks 9 + 1 = 10) `hungarian` swaps, and greedy
+    /// matching keeps them (it takes robot 1's own task first, at 1); with 10 (own tasks 2 + 0)
+    /// both keep the tasks where they are; with 0 both swap.
+    #[test]
+    fn a_reassignment_must_save_more_than_the_margin() {
+        let map = GridMap::from_free_rows(&[vec![true; 16]]);
+        let problem = test_problem(
+            map,
+            vec![0, 9],
+            vec![vec![5, 5], vec![12, 12]],
+            1.0,
+            ActionModel::Mapf,
+        );
+        let mut sim = Simulation::new(&problem);
+        sim.apply_schedule(&[Some(1), Some(0)]);
+        assert_eq!(sim.assignment, vec![Some(1), Some(0)]);
+        let mut dist = Distances::new(16, 1 << 20);
+        let far = Deadline::after(Duration::from_secs(60));
+        let (swap, keep) = (vec![Some(0), Some(1)], vec![Some(1), Some(0)]);
+        for (kind, margin, expected) in [
+            (SchedulerKind::Hungarian, 0, &swap),
+            (SchedulerKind::Hungarian, 3, &swap),
+            (SchedulerKind::Hungarian, 10, &keep),
+            (SchedulerKind::Matching, 0, &swap),
+            (SchedulerKind::Matching, 3, &keep),
+            (SchedulerKind::Matching, 10, &keep),
+        ] {
+            let scheduler = Scheduler {
+                reassign_margin: margin,
+                ..Scheduler::new(kind)
+            };
+            assert_eq!(
+                &scheduler.propose(&sim, &mut dist, far),
+                expected,
+                "{kind:?} with a margin of {margin}"
+            );
         }
     }
 }

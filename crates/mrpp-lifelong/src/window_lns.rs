@@ -25,13 +25,23 @@
 //! Choices where WPPL's description leaves room (named here so they can be changed): one LNS
 //! thread (WPPL runs several; results must not depend on the thread count); no guidance graph
 //! (edge weights learned offline): the initial rollout follows the traffic-flow guide paths when
-//! `guidance` says so, LNS minimises plain distances; an A* search stops after
+//! `guidance` says so, and LNS minimises plain distances unless told otherwise (below); an A* search stops after
 //! [`MAX_EXPANSIONS`] states and the neighbourhood is then left as it was. With a count of
 //! iterations that fits the step's time, a run is reproducible from its seed; when the time runs
 //! out first the count depends on the machine, as with `guide_replans`. When the step's time
 //! runs out during the rollout itself (thousands of robots, e.g. 10,000 on the kit v3's
 //! `iron-example_10000`), the rollout stops there and every robot waits for the rest of the
 //! window: the first step is always PIBT's, so the call answers in time.
+//!
+//! **Guided cost** (`lns_guide_weight`, [`LnsOptions::guide_weight`]). With plain distances
+//! LNS is free to move a robot off its guide path into the lane of the oncoming flow whenever
+//! that is as short, and on the kit's 5,000-robot warehouse the corridors then jam head on
+//! (docs/performance.md, "Why the warehouse slows down"). With a weight `k` > 0, the actions
+//! still needed from a path's last state to a robot's first errand gain the detour of its guide
+//! path from there: `k` x the hops to the guide path + the guide path's moves left from where
+//! it is met - the hop distance (never negative; 0 for a robot without a guide path to that
+//! errand). At `k` = 1 a robot one row off its lane costs no more than one on it, since it could
+//! step across at the end of the window; `k` >= 2 charges it for every hop it stays off.
 
 use std::cmp::Reverse;
 use std::collections::BinaryHeap;
@@ -72,6 +82,11 @@ pub struct LnsOptions {
     /// instead (no window): at 26% on a 10,000-robot warehouse the window's rollouts left the
     /// guide paths too little time (docs/lifelong.md).
     pub max_density: f64,
+    /// What a path's cost counts beyond its steps and the actions still needed to the goal
+    /// (module doc, "Guided cost"): with a weight `k` > 0, also the detour of the robot's
+    /// traffic-flow guide path from where the path ends, each hop off the guide path counted
+    /// `k` times (the named option `lns_guide_weight`; 0 = plain distances).
+    pub guide_weight: u32,
 }
 
 /// Windowed LNS's state from step to step: the joint plan, the reservation table and scratch.
@@ -99,6 +114,9 @@ struct Heuristic<'a> {
     graph: &'a Graph,
     turns: Option<&'a mut TurnDistances>,
     turn_goals: &'a FxHashSet<VertexId>,
+    /// The guide paths whose detours a path's cost counts, with the weight of a hop off them
+    /// ([`LnsOptions::guide_weight`]), else `None`.
+    guide: Option<(&'a mut GuidePaths, u32)>,
 }
 
 impl Heuristic<'_> {
@@ -108,6 +126,27 @@ impl Heuristic<'_> {
             _ => self.dist.get(self.graph, s.vertex, goal),
         };
         if d == UNREACHABLE { FAR } else { d.min(FAR) }
+    }
+
+    /// How much longer robot `robot`'s way from `v` to `goal` is along its guide path (`k`
+    /// times the hops to the path, then the path) than the hop distance; 0 without a guide path
+    /// to `goal`.
+    fn detour(&mut self, robot: u32, v: VertexId, goal: VertexId) -> u32 {
+        let Some((g, k)) = self.guide.as_mut() else {
+            return 0;
+        };
+        if robot == NIL || !g.follows(robot as usize, goal) {
+            return 0;
+        }
+        let (off, togo) = g.path_distance(robot as usize, v);
+        let hops = self.dist.get(self.graph, v, goal);
+        if off == UNREACHABLE || hops == UNREACHABLE {
+            0
+        } else {
+            (off.saturating_mul(*k).saturating_add(togo))
+                .saturating_sub(hops)
+                .min(FAR)
+        }
     }
 }
 
@@ -226,11 +265,16 @@ impl WindowLns {
             graph: map.graph(),
             turns,
             turn_goals: &turn_goals,
+            guide: guide
+                .filter(|_| self.options.guide_weight > 0)
+                .map(|g| (g, self.options.guide_weight)),
         };
         let errands: Vec<Errands> = goals
             .iter()
             .zip(seconds)
-            .map(|(&first, &second)| Errands {
+            .enumerate()
+            .map(|(i, (&first, &second))| Errands {
+                robot: i as u32,
                 first,
                 second,
                 // The most actions from the first errand, whichever way the robot faces
@@ -540,6 +584,8 @@ const DONE: u8 = 2;
 /// task (`NIL`: none), and the hop distance between them.
 #[derive(Debug, Clone, Copy)]
 pub struct Errands {
+    /// The robot, whose guide path's detour counts with a guide weight (`u32::MAX`: none).
+    pub robot: u32,
     /// The next errand (the robot's own cell when it has no task).
     pub first: VertexId,
     /// The errand after it in the same task, or `u32::MAX`.
@@ -568,8 +614,10 @@ impl Errands {
     /// errands are ahead.
     fn left(self, stage: u8, s: State, h: &mut Heuristic<'_>) -> u32 {
         match stage {
-            0 if self.second == NIL => h.get(s, self.first),
-            0 => h.get(s, self.first) + self.between,
+            0 if self.second == NIL => {
+                h.get(s, self.first) + h.detour(self.robot, s.vertex, self.first)
+            }
+            0 => h.get(s, self.first) + h.detour(self.robot, s.vertex, self.first) + self.between,
             1 => h.get(s, self.second),
             _ => 0,
         }
@@ -610,6 +658,7 @@ mod tests {
         window: 6,
         iterations: 10,
         group: 4,
+        guide_weight: 0,
     };
 
     fn at(vertex: VertexId, orientation: u8) -> State {
@@ -636,8 +685,10 @@ mod tests {
             graph: map.graph(),
             turns: None,
             turn_goals: &empty,
+            guide: None,
         };
         let e = Errands {
+            robot: NIL,
             first: 3,
             second: NIL,
             between: 0,
@@ -672,8 +723,10 @@ mod tests {
             graph: map.graph(),
             turns: None,
             turn_goals: &empty,
+            guide: None,
         };
         let e = Errands {
+            robot: NIL,
             first: 3,
             second: NIL,
             between: 0,
@@ -712,8 +765,10 @@ mod tests {
             graph: map.graph(),
             turns: None,
             turn_goals: &empty,
+            guide: None,
         };
         let e = Errands {
+            robot: NIL,
             first: 2,
             second: 0,
             between: 2,
@@ -729,10 +784,63 @@ mod tests {
         assert_eq!(path_cost(&waiting, e, &mut h), 2 + 1 + 2);
         // No task: goal is its own cell, cost 0 however it moves.
         let idle = Errands {
+            robot: NIL,
             first: 1,
             second: NIL,
             between: 0,
         };
         assert_eq!(path_cost(&[1, 2, 3].map(|v| at(v, EAST)), idle, &mut h), 0);
+    }
+
+    #[test]
+    fn a_guided_cost_keeps_the_guide_paths_lane_and_a_plain_one_does_not() {
+        // Three rows of 16: robot 0's guide path runs east along the middle row, so robot 1's,
+        // going west along the same row, leaves it (contraflow). Plain costs send robot 1 down
+        // the middle row; guided costs (weight 2) keep it on its guide path's lane.
+        let map = GridMap::from_free_rows(&[vec![true; 16], vec![true; 16], vec![true; 16]]);
+        let g = map.graph();
+        let v = |x, y| map.vertex_at(x, y).unwrap();
+        let mut dist = Distances::new(g.num_vertices(), 1 << 20);
+        let mut guide = GuidePaths::new(&map, 2, 0);
+        guide.update(&[v(0, 1)], &[v(15, 1)], 0, &mut dist, g, Deadline::none());
+        let (cells, goals) = ([v(0, 1), v(15, 1)], [v(15, 1), v(0, 1)]);
+        guide.update(&cells, &goals, 0, &mut dist, g, Deadline::none());
+        let lns = WindowLns::on_map(&map, OPTIONS, 1);
+        let empty = FxHashSet::default();
+        let e = Errands {
+            robot: 1,
+            first: v(0, 1),
+            second: NIL,
+            between: 0,
+        };
+        let start = at(v(15, 1), 2);
+        let mut plain = Heuristic {
+            dist: &mut dist,
+            graph: g,
+            turns: None,
+            turn_goals: &empty,
+            guide: None,
+        };
+        let (path, cost) = lns.search(ActionModel::Mapf, start, e, &mut plain).unwrap();
+        assert_eq!(cost, 15);
+        assert!(path.iter().all(|s| map.cell(s.vertex).1 == 1), "{path:?}");
+        let mut guided = Heuristic {
+            guide: Some((&mut guide, 2)),
+            ..plain
+        };
+        let (path, cost) = lns
+            .search(ActionModel::Mapf, start, e, &mut guided)
+            .unwrap();
+        let end = map.cell(path[OPTIONS.window].vertex);
+        assert_ne!(
+            end.1, 1,
+            "the window ends on the guide path's lane: {path:?}"
+        );
+        // The guide path is two moves longer than the middle row, and that is the cost's excess.
+        assert_eq!(cost, 17);
+        assert_eq!(guided.detour(1, v(15, 1), v(0, 1)), 2);
+        // One hop off the lane counts twice; robot 0 has no guide path to robot 1's goal.
+        assert_eq!(guided.detour(1, v(9, 1), v(0, 1)), 2 + 10 - 9);
+        assert_eq!(guided.detour(0, v(9, 1), v(0, 1)), 0);
     }
 }
