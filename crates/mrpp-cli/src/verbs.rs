@@ -78,8 +78,18 @@ pub(crate) fn render(inputs: &Inputs, plan: &Path, out: &Path, gif: bool) -> Res
         #[cfg(feature = "raster")]
         "gif" => {
             let scene = family.scene(inputs, plan)?;
-            let gif =
-                crate::raster::gif(&scene).map_err(|e| Fail(format!("{}: {e}", out.display())))?;
+            let live = crate::progress::Live::start("render GIF");
+            let report = live.callback();
+            let gif = crate::raster::gif(&scene, &|done, total| {
+                report(&mrpp_core::Progress {
+                    stage: "frame",
+                    done: done as u64,
+                    total: total as u64,
+                    note: String::new(),
+                })
+            });
+            live.finish();
+            let gif = gif.map_err(|e| Fail(format!("{}: {e}", out.display())))?;
             write_atomic(out, &gif)?;
         }
         _ => {
