@@ -62,9 +62,9 @@
 //!   D and the fitness of the queen"). The paper's *fitness* is maximised ("the bee with highest
 //!   fitness") and never defined in terms of the minimised objective f (eq. 7), so its scale is
 //!   not known; on f itself, a distance sum in hundreds of length units, an absolute difference
-//!   divided by a speed ≤ 1 gives `exp(−D/S) ≈ 0` and almost no drone mates (the broods then come
-//!   from uniformly drawn drones, step 3). The relative difference makes the acceptance
-//!   independent of the objective's unit.
+//!   divided by a speed ≤ 1 gives `exp(−D/S) ≈ 0` and almost no fresh drone mates (the broods
+//!   then come from uniformly drawn drones, step 3; carried broods, near the queen, still mate).
+//!   The relative difference makes the acceptance independent of the objective's unit.
 //! - **Brood drones** (`brood_drones`, on by default: the paper states the step): the failed
 //!   broods are *added* to the `drones` fresh ones, so a flight's drone pool holds up to
 //!   `drones + broods` bees and the evaluation count does not change. The other reading (failed
