@@ -13,7 +13,7 @@ use mrpp_bench::execution::{ExecutionConfig, ExecutionSweep, Instance};
 use mrpp_bench::lorr::{LorrConfig, LorrSweep};
 use mrpp_bench::papers::ga_formation::{FormationConfig, GaFormation};
 use mrpp_bench::papers::gp_trees::{GpExperimentConfig, GpTable3, GpTable4, GpTable5};
-use mrpp_bench::papers::hbmo_navigation::{HbmoConfig, HbmoNavigation};
+use mrpp_bench::papers::hbmo_navigation::{HbmoConfig, HbmoNavigation, SweepWorlds};
 use mrpp_bench::papers::hstar_instances::Scenario2Map;
 use mrpp_bench::papers::hstar_table2::{Table2, Table2Config, table2_methods};
 
@@ -216,7 +216,8 @@ pub struct HbmoArgs {
     /// Methods (comma-separated registry names).
     #[arg(long, value_delimiter = ',', default_value = "hbmo,de,pso,orca")]
     planners: Vec<String>,
-    /// A parameter for every method, e.g. `-p guide=goal` (repeatable).
+    /// A parameter for every method that has it, e.g. `-p guide=goal` or `-p preset=paper`
+    /// (an error if none has it), or for one method, e.g. `-p hbmo:flights=72` (repeatable).
     #[arg(short = 'p', long = "param", value_name = "KEY=VALUE")]
     params: Vec<String>,
     /// Wall-clock limit per run, in seconds.
@@ -227,6 +228,11 @@ pub struct HbmoArgs {
         allow_negative_numbers = true
     )]
     time_limit: f64,
+    /// The sweeps' worlds: `fresh`, one generated world per value; `fixed`, one world of 10
+    /// robots and 10 obstacles whose first robots and obstacles every value takes, so obstacles
+    /// are added to the same world (the paper).
+    #[arg(long, default_value = "fresh", value_parser = ["fresh", "fixed"])]
+    sweep_worlds: String,
     /// The folder of six-robots-four-obstacles.json (default: the copy embedded in mrpp, the
     /// repository's data/continuous).
     #[arg(long)]
@@ -512,6 +518,11 @@ pub fn run(cmd: Experiment, merge: Option<Mode>) -> Result<u8, Fail> {
                     .map(|p| mrpp_core::registry::parse_key_value(p))
                     .collect::<Result<_, _>>()?,
                 time_limit: seconds("time-limit", a.time_limit)?,
+                sweep_worlds: if a.sweep_worlds == "fixed" {
+                    SweepWorlds::Fixed
+                } else {
+                    SweepWorlds::Fresh
+                },
             };
             let mode = merge.unwrap_or(Mode::run(a.shard, a.out.clone()));
             let (data, _unpacked) = data_dir(a.data.clone(), &embedded::CONTINUOUS)?;

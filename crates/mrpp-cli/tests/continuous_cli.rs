@@ -246,6 +246,66 @@ fn hbmo_experiment_writes_its_page_and_ignores_the_thread_count() {
     assert_eq!(csvs[0], csvs[1]);
 }
 
+/// Issue 32, item 4: `--sweep-worlds fixed` (one world, obstacles added), `-p preset=paper` for
+/// the planners that have it and `-p hbmo:key=value` for one planner; the tables carry the
+/// per-run UTD total beside the per-step AUTD.
+#[test]
+fn hbmo_experiment_takes_fixed_sweep_worlds_presets_and_per_planner_params() {
+    let out = tmp("hbmo-fixed");
+    let o = Command::new(env!("CARGO_BIN_EXE_mrpp"))
+        .args([
+            "experiment",
+            "hbmo",
+            "--runs",
+            "1",
+            "--planners",
+            "hbmo,orca",
+            "-p",
+            "preset=paper",
+            "-p",
+            "hbmo:flights=2",
+            "--sweep-worlds",
+            "fixed",
+            "--out",
+            out.to_str().unwrap(),
+        ])
+        .current_dir(root())
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success(),
+        "{stdout}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    let page = std::fs::read_to_string(out.join("hbmo.md")).unwrap();
+    assert!(page.contains("sweep worlds `fixed`"), "{page}");
+    assert!(page.contains("UTD total (per run)"), "{page}");
+    let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
+    assert!(
+        csv.lines().next().unwrap().contains(",autd,utd_total,"),
+        "{csv}"
+    );
+    // A key no chosen planner has is refused, naming it; so is a bad --sweep-worlds.
+    for (args, word) in [
+        (
+            &["-p", "mating=absolute", "--planners", "de,orca"][..],
+            "mating",
+        ),
+        (&["--sweep-worlds", "new"][..], "new"),
+    ] {
+        let o = Command::new(env!("CARGO_BIN_EXE_mrpp"))
+            .args(["experiment", "hbmo", "--runs", "1", "-o"])
+            .arg(tmp("hbmo-refused"))
+            .args(args)
+            .current_dir(root())
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success() && err.contains(word), "{err}");
+    }
+}
+
 /// Issue 30, item 11 for continuous worlds: a plan file that says solved=false shows the world
 /// with every robot's start and goal (before: exit 1, "the file says solved=false: it holds no
 /// plan"); validate still refuses it.

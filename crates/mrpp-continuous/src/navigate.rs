@@ -9,8 +9,10 @@
 //! 2. **Headings.** `Mode::Joint` (the text: "the centralized version ... determines next position
 //!    of each robot by optimizing the given constrained single-objective function", one vector of
 //!    all moving robots' headings) or `Mode::PerRobot` (the pseudo-code's `For robot i = 1 to N`
-//!    loop: one optimisation per robot, the others at their latest positions). The optimiser starts
-//!    from "every robot heads straight to its target" among its initial points. Robots that have
+//!    loop: one optimisation per robot, the others at their latest positions). With `straight_init`
+//!    (the default; beyond the paper, whose pseudo-code only says "Initialize all the bees") the
+//!    optimiser starts from "every robot heads straight to its target" among its initial points;
+//!    without it, its initial points are all its own random samples. Robots that have
 //!    arrived (within ε of their goals) stay where they are (the paper: they stop).
 //! 3. **Final approach** (`snap`, default on; the paper is silent): a robot within one step of its
 //!    goal aims exactly at it, so that ε can be small.
@@ -78,6 +80,9 @@ pub struct Navigation {
     pub deadlock_steps: usize,
     /// Aim exactly at the goal when within one step of it.
     pub snap: bool,
+    /// Give the optimiser "every robot heads straight to its target" as an initial point
+    /// (default `true`; the paper does not: `false`).
+    pub straight_init: bool,
 }
 
 impl Default for Navigation {
@@ -88,6 +93,7 @@ impl Default for Navigation {
             objective: Objective::default(),
             deadlock_steps: 50,
             snap: true,
+            straight_init: true,
         }
     }
 }
@@ -263,6 +269,14 @@ impl Navigation {
         let w = problem.world();
         let speeds: Vec<f64> = w.robots.iter().map(|r| r.speed).collect();
         let straight: Vec<f64> = moving.iter().map(|&i| toward(pos[i], targets[i])).collect();
+        // The initial points given to the optimiser: the straight headings, or none.
+        let init = |x: Vec<f64>| {
+            if self.straight_init {
+                vec![x]
+            } else {
+                Vec::new()
+            }
+        };
         match self.mode {
             Mode::Joint => {
                 let mut next = pos.to_vec();
@@ -273,7 +287,7 @@ impl Navigation {
                     self.objective.total(problem, &next, targets)
                 };
                 optimizer
-                    .minimize_dyn(&Space::angles(moving.len()), &mut f, &[straight], rng)
+                    .minimize_dyn(&Space::angles(moving.len()), &mut f, &init(straight), rng)
                     .x
             }
             Mode::PerRobot => {
@@ -294,7 +308,7 @@ impl Navigation {
                         v
                     };
                     let theta = optimizer
-                        .minimize_dyn(&Space::angles(1), &mut f, &[vec![straight[k]]], rng)
+                        .minimize_dyn(&Space::angles(1), &mut f, &init(vec![straight[k]]), rng)
                         .x[0];
                     latest[i] = next_position(pos[i], r.speed, theta);
                     out.push(theta);
@@ -448,4 +462,69 @@ fn near_robots(w: &World, pos: &[Point], grid: &PointGrid, reach: f64, i: usize)
         .collect();
     out.sort_unstable();
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::generator::random_world;
+    use mrpp_evo::Minimum;
+    use std::sync::Mutex;
+
+    /// A minimiser that records the initial points it is given and returns the first of them
+    /// (or zeros).
+    struct Recorder(Mutex<Vec<Vec<Vec<f64>>>>);
+
+    impl Minimizer for Recorder {
+        fn minimize_dyn(
+            &self,
+            space: &Space,
+            f: &mut dyn FnMut(&[f64]) -> f64,
+            init: &[Vec<f64>],
+            _rng: &mut ChaCha8Rng,
+        ) -> Minimum {
+            self.0.lock().unwrap().push(init.to_vec());
+            let x = init.first().cloned().unwrap_or(vec![0.0; space.dim()]);
+            Minimum {
+                value: f(&x),
+                x,
+                evaluations: 1,
+            }
+        }
+        fn name(&self) -> &'static str {
+            "recorder"
+        }
+    }
+
+    #[test]
+    fn straight_init_gives_the_straight_headings_or_nothing() {
+        let problem = NavProblem::new(random_world(3, 2, 7).unwrap());
+        let w = problem.world();
+        let pos: Vec<Point> = w.robots.iter().map(|r| r.start).collect();
+        let goals: Vec<Point> = w.robots.iter().map(|r| r.goal).collect();
+        let moving = [0, 1, 2];
+        for mode in [Mode::Joint, Mode::PerRobot] {
+            let straight: Vec<f64> = moving.iter().map(|&i| toward(pos[i], goals[i])).collect();
+            for on in [true, false] {
+                let nav = Navigation {
+                    mode,
+                    straight_init: on,
+                    ..Navigation::default()
+                };
+                let rec = Recorder(Mutex::new(Vec::new()));
+                let mut rng = ChaCha8Rng::seed_from_u64(0);
+                let h = nav.headings(&problem, &pos, &goals, &moving, &rec, &mut rng);
+                let calls = rec.0.into_inner().unwrap();
+                let expect: Vec<Vec<Vec<f64>>> = match (mode, on) {
+                    (Mode::Joint, true) => vec![vec![straight.clone()]],
+                    (Mode::Joint, false) => vec![vec![]],
+                    (Mode::PerRobot, true) => straight.iter().map(|&t| vec![vec![t]]).collect(),
+                    (Mode::PerRobot, false) => vec![vec![]; 3],
+                };
+                assert_eq!(calls, expect, "{mode:?}, straight_init {on}");
+                let want = if on { straight.clone() } else { vec![0.0; 3] };
+                assert_eq!(h, want);
+            }
+        }
+    }
 }

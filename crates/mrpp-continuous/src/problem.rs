@@ -14,7 +14,11 @@
 //! Metrics (§5): total path traversed (the paper's ATPT for one run), total path deviation from the
 //! ideal paths (ATPD for one run, `Σ_i (traversed_i − ideal_i)`, [`crate::ideal`]), the uncovered
 //! target distance `UTD(t) = Σ_i ‖g_i − p_i(t)‖` averaged over the steps (the AUTD curve is
-//! [`NavProblem::utd_series`]) and the steps to arrival.
+//! [`NavProblem::utd_series`]) and the steps to arrival. The paper's AUTD (§5.2, "for k runs of
+//! the program, we evaluate the average of UTDs") is per step, `AUTD(t) = (1/k) Σ_runs UTD_run(t)`,
+//! a curve over the runs; [`NavMetrics::mean_utd`] is one run's UTD averaged over its steps, a
+//! per-run summary that favours runs which crawl the last stretch (the `hbmo` experiment also
+//! reports `Σ_t UTD(t)`, the area under the run's curve).
 
 use std::sync::Arc;
 
@@ -54,7 +58,8 @@ pub struct NavMetrics {
     /// Σ over robots of traversed − ideal path length (ATPD of one run); NaN when a goal has no
     /// ideal path.
     pub total_deviation: f64,
-    /// The uncovered target distance averaged over steps `0..=T`.
+    /// The uncovered target distance averaged over steps `0..=T`: `(1/(T+1)) Σ_t UTD(t)` (not
+    /// the paper's per-step AUTD curve; see the module doc).
     pub mean_utd: f64,
     /// The least clearance between a disc and an obstacle or another disc over all swept steps.
     pub min_clearance: f64,

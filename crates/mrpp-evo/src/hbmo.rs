@@ -13,7 +13,11 @@
 //!    the space), then uniform samples — are evaluated; the best is the *queen*.
 //! 2. **Mating flight** (repeated `flights` times). The queen starts with speed
 //!    `S = speed_max` and energy `E = energy_max`; `drones` uniformly random drones are generated
-//!    and evaluated, and the spermatheca (capacity `spermatheca`) starts empty. While
+//!    and evaluated and, with `brood_drones` (the default), the broods of the previous flight
+//!    that did not replace the queen join them as drones (§3: "If the brood fails to replace the
+//!    queen, then in the next mating flight of the queen this brood will be one of the drones";
+//!    their values are known, so they cost no evaluation). The spermatheca (capacity
+//!    `spermatheca`) starts empty. While
 //!    `S > speed_min` **and** the spermatheca is not full **and** `E > 0`: a drone is drawn
 //!    uniformly (with replacement) and mates — its genotype is stored in the spermatheca — with
 //!    probability `exp(−D/S)` (eq. 8), where `D` is the fitness difference between queen and drone;
@@ -32,7 +36,9 @@
 //!    grows by the worker's relative improvement `(f_before − f_after)/max(|f_before|, 1e-12)`,
 //!    clipped to `[0, 1]`, after each use ("choose the worker by roulette on its past gains and
 //!    update its fitness"). The workers' fitness is kept across the flights of one call.
-//! 5. **Replacement.** The best brood replaces the queen if it is strictly better.
+//! 5. **Replacement.** The best brood replaces the queen if it is strictly better; the other
+//!    broods (all of them when none replaces the queen) are the next flight's extra drones when
+//!    `brood_drones` is on.
 //!
 //! The answer is the final queen. NaN objective values count as `+inf` throughout (a NaN drone
 //! never mates, a NaN brood never replaces the queen).
@@ -52,14 +58,24 @@
 //!   α ≥ 1 a flight also ends after [`MAX_TRANSITIONS`] transitions.
 //! - **The difference `D`** of eq. 8 is, with [`FitnessScale::Relative`] (the default),
 //!   `|f(queen) − f(drone)| / max(|f(queen)|, 1e-12)`; with [`FitnessScale::Absolute`],
-//!   `|f(queen) − f(drone)|` as written. The navigation objective is a distance sum in hundreds of
-//!   length units, so an absolute difference divided by a speed ≤ 1 gives `exp(−D/S) ≈ 0` and no
-//!   drone would ever mate; the relative difference makes the acceptance independent of the
-//!   objective's unit.
-//! - **Drones** are fresh uniform samples at every flight and the spermatheca is emptied between
-//!   flights; drones never replace the queen directly (only through broods: `u` near 0 gives a
-//!   brood near the drone). The other members of the initial population only compete for the
-//!   first queen.
+//!   `|f(queen) − f(drone)|` as written ("D(f) is the absolute difference between the fitness of
+//!   D and the fitness of the queen"). The paper's *fitness* is maximised ("the bee with highest
+//!   fitness") and never defined in terms of the minimised objective f (eq. 7), so its scale is
+//!   not known; on f itself, a distance sum in hundreds of length units, an absolute difference
+//!   divided by a speed ≤ 1 gives `exp(−D/S) ≈ 0` and almost no fresh drone mates (the broods
+//!   then come from uniformly drawn drones, step 3; carried broods, near the queen, still mate).
+//!   The relative difference makes the acceptance independent of the objective's unit.
+//! - **Brood drones** (`brood_drones`, on by default: the paper states the step): the failed
+//!   broods are *added* to the `drones` fresh ones, so a flight's drone pool holds up to
+//!   `drones + broods` bees and the evaluation count does not change. The other reading (failed
+//!   broods *replace* fresh drones) would lower the evaluations per flight. Off, every flight's
+//!   drones are fresh uniform samples (mrpp before issue 32).
+//! - **Drones** never replace the queen directly (only through broods: `u` near 0 gives a brood
+//!   near the drone); the spermatheca is emptied between flights. The other members of the
+//!   initial population only compete for the first queen. The caller's `init` points (the
+//!   navigation loop's straight-to-target headings, which `Navigation::straight_init` in
+//!   `mrpp-continuous` switches off) are the only non-random members; the paper's pseudo-code only
+//!   says "Initialize all the bees (initial population)".
 //! - **Parameter edge cases**: `population` and `drones` below 1 are treated as 1; `workers: 0`
 //!   disables the local search.
 //!
@@ -119,12 +135,29 @@ pub struct Hbmo {
     pub local_steps: usize,
     /// How `D` in the mating probability is measured (default [`FitnessScale::Relative`]).
     pub fitness_scale: FitnessScale,
+    /// Broods that fail to replace the queen join the next flight's drones (§3, last sentence;
+    /// default `true`). `false` gives every flight only fresh random drones.
+    pub brood_drones: bool,
+}
+
+/// What one mating flight did (for tests and diagnostics): sizes, not contents.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct FlightLog {
+    /// Drones in the flight's pool: `drones` fresh ones plus the carried broods.
+    pub drones: usize,
+    /// Of those, broods of the previous flight (0 without `brood_drones`).
+    pub carried: usize,
+    /// Drones that mated (sperm stored in the spermatheca).
+    pub matings: usize,
+    /// Whether the best brood replaced the queen.
+    pub replaced: bool,
 }
 
 impl Default for Hbmo {
     /// Table 1 of the paper: `population: 10, drones: 9, broods: 9, workers: 5, spermatheca: 9,
     /// speed_max: 1.0, speed_min: 0.2, energy_max: 1.0, alpha: 0.93, gamma: 0.93`; plus
-    /// `flights: 18, local_steps: 3, fitness_scale: Relative` (820 evaluations per call).
+    /// `flights: 18, local_steps: 3, fitness_scale: Relative, brood_drones: true` (820
+    /// evaluations per call).
     fn default() -> Self {
         Hbmo {
             population: 10,
@@ -140,6 +173,7 @@ impl Default for Hbmo {
             flights: 18,
             local_steps: 3,
             fitness_scale: FitnessScale::Relative,
+            brood_drones: true,
         }
     }
 }
@@ -159,6 +193,19 @@ impl Hbmo {
         init: &[Vec<f64>],
         rng: &mut R,
     ) -> Minimum {
+        self.minimize_logged(space, f, init, rng, &mut Vec::new())
+    }
+
+    /// [`Hbmo::minimize`], also appending one [`FlightLog`] per mating flight to `log` (the same
+    /// random choices and result).
+    pub fn minimize_logged<F: FnMut(&[f64]) -> f64, R: Rng + ?Sized>(
+        &self,
+        space: &Space,
+        f: F,
+        init: &[Vec<f64>],
+        rng: &mut R,
+        log: &mut Vec<FlightLog>,
+    ) -> Minimum {
         let dim = space.dim();
         let mut f = Counted::new(f);
 
@@ -173,12 +220,19 @@ impl Hbmo {
             .map(|k| 0.3 * 0.4f64.powi(k as i32))
             .collect();
         let mut worker_fitness = vec![1.0; self.workers];
+        // The previous flight's broods that did not replace the queen, with their values.
+        let mut carried: Vec<(Vec<f64>, f64)> = Vec::new();
 
         for _ in 0..self.flights {
             // 2. Mating flight.
-            let drones: Vec<Vec<f64>> =
+            let mut drones: Vec<Vec<f64>> =
                 (0..self.drones.max(1)).map(|_| space.sample(rng)).collect();
-            let drone_values: Vec<f64> = drones.iter().map(|d| f.eval(d)).collect();
+            let mut drone_values: Vec<f64> = drones.iter().map(|d| f.eval(d)).collect();
+            let n_carried = carried.len();
+            for (b, v) in carried.drain(..) {
+                drones.push(b);
+                drone_values.push(v);
+            }
             let mut sperm: Vec<usize> = Vec::with_capacity(self.spermatheca);
             let mut speed = self.speed_max;
             let mut energy = self.energy_max;
@@ -205,7 +259,7 @@ impl Hbmo {
             }
 
             // 3. Broods, each improved by a worker (4.); the best is kept.
-            let mut best_brood: Option<(Vec<f64>, f64)> = None;
+            let mut broods: Vec<(Vec<f64>, f64)> = Vec::with_capacity(self.broods);
             for _ in 0..self.broods {
                 let d = if sperm.is_empty() {
                     rng.random_range(0..drones.len())
@@ -239,21 +293,30 @@ impl Hbmo {
                     worker_fitness[k] += relative_gain(before, key(brood_value));
                 }
 
-                if best_brood
-                    .as_ref()
-                    .is_none_or(|(_, bv)| key(brood_value) < key(*bv))
-                {
-                    best_brood = Some((brood, brood_value));
-                }
+                broods.push((brood, brood_value));
             }
 
-            // 5. The best brood replaces the queen if it is strictly better.
-            if let Some((brood, value)) = best_brood
-                && key(value) < key(queen_value)
+            // 5. The best brood (the first on ties) replaces the queen if it is strictly better;
+            // the others become drones of the next flight.
+            let best = argmin(&broods.iter().map(|(_, v)| *v).collect::<Vec<_>>());
+            let mut replaced = false;
+            if let Some(b) = best
+                && key(broods[b].1) < key(queen_value)
             {
+                let (brood, value) = broods.remove(b);
                 queen = brood;
                 queen_value = value;
+                replaced = true;
             }
+            if self.brood_drones {
+                carried = broods;
+            }
+            log.push(FlightLog {
+                drones: drones.len(),
+                carried: n_carried,
+                matings: sperm.len(),
+                replaced,
+            });
         }
 
         Minimum {
@@ -409,6 +472,75 @@ mod tests {
         let abs = run(FitnessScale::Absolute);
         assert_ne!(rel, abs);
         assert!(rel.value < 300.5, "{rel:?}");
+    }
+
+    #[test]
+    fn failed_broods_become_drones_of_the_next_flight() {
+        // §3: "If the brood fails to replace the queen, then in the next mating flight of the
+        // queen this brood will be one of the drones". On: flight k > 0 has the 9 fresh drones
+        // plus the 9 broods of flight k − 1 (8 when one of them replaced the queen); off: 9.
+        let space = cube(3, 5.0);
+        let run = |brood_drones| {
+            let mut log = Vec::new();
+            let r = Hbmo {
+                brood_drones,
+                ..Hbmo::default()
+            }
+            .minimize_logged(
+                &space,
+                sphere,
+                &[],
+                &mut ChaCha8Rng::seed_from_u64(3),
+                &mut log,
+            );
+            (r, log)
+        };
+        let (on, log_on) = run(true);
+        let (off, log_off) = run(false);
+        assert_eq!(log_on.len(), 18);
+        assert_eq!((log_on[0].drones, log_on[0].carried), (9, 0));
+        for k in 1..18 {
+            let expect = if log_on[k - 1].replaced { 8 } else { 9 };
+            assert_eq!(log_on[k].carried, expect, "flight {k}: {log_on:?}");
+            assert_eq!(log_on[k].drones, 9 + expect);
+        }
+        assert!(log_off.iter().all(|l| l.drones == 9 && l.carried == 0));
+        // Carried drones cost no evaluation: the budget is the same.
+        assert_eq!(on.evaluations, 820);
+        assert_eq!(off.evaluations, 820);
+        assert_ne!(on.x, off.x);
+    }
+
+    #[test]
+    fn absolute_difference_stops_mating_on_large_objectives() {
+        // Eq. 8 with D = |f(queen) − f(drone)| on values in the hundreds: exp(−D/S) ≈ 0 for
+        // every fresh drone that differs from the queen by more than a few units, so the
+        // spermatheca stays (nearly) empty; with the relative difference drones mate in every
+        // flight. (Carried broods lie near the queen and do mate under the absolute rule, so
+        // this compares fresh drones only.)
+        let space = cube(3, 5.0);
+        let f = |x: &[f64]| 300.0 + sphere(x);
+        let matings = |scale| {
+            let mut log = Vec::new();
+            Hbmo {
+                fitness_scale: scale,
+                brood_drones: false,
+                ..Hbmo::default()
+            }
+            .minimize_logged(
+                &space,
+                f,
+                &[],
+                &mut ChaCha8Rng::seed_from_u64(2),
+                &mut log,
+            );
+            log.iter().map(|l| l.matings).sum::<usize>()
+        };
+        let rel = matings(FitnessScale::Relative);
+        let abs = matings(FitnessScale::Absolute);
+        // Relative: the spermatheca (9) fills in every one of the 18 flights.
+        assert_eq!(rel, 18 * 9, "relative");
+        assert!(abs * 10 < rel, "absolute: {abs}, relative: {rel}");
     }
 
     #[test]

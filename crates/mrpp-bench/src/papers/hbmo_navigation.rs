@@ -1,8 +1,12 @@
 //! The HBMO navigation paper's experiments (§5, Figs. 5–12) as a sweep: HBMO, DE, PSO and ORCA
 //! on seeded worlds, `runs` runs each (the paper: k = 5), with the paper's metrics.
 //!
-//! Panels (every world from [`random_world`] with a seed derived from the user's seed and the
-//! panel's key, robots of radius 6, all at one speed):
+//! Panels (robots of radius 6, all at one speed; the sweeps' worlds from [`random_world`], chosen
+//! by [`SweepWorlds`]: `fresh`, the default, draws one world per value with a seed derived from
+//! the user's seed and the panel's key; `fixed` draws one world of 10 robots and 10 obstacles
+//! from the seed and gives every value a prefix of it, so the obstacle sweep keeps the old
+//! obstacles and adds new ones, as the paper does: "old obstacles were retained and new obstacles
+//! were added"):
 //! - `fig12`: the bundled 6-robot / 4-obstacle world (`six-robots-four-obstacles.json`): steps to
 //!   arrival, ATPT, ATPD, AUTD per method, with Mann–Whitney p-values of HBMO against each other
 //!   method (so do the sweeps' tables, per world) (the paper: HBMO 35, DE 37, PSO 38 steps, one run shown);
@@ -13,11 +17,22 @@
 //! - `velocity`: speeds 4, 8, 12, 16, 20 with 6 robots among 5 obstacles (Fig. 5: AUTD per step
 //!   against the speed).
 //!
+//! Metrics (§5): ATPT (total path traversed), ATPD (Σ_i traversed_i − ideal_i), and the
+//! uncovered target distance `UTD(t) = Σ_i ‖G_i − C_i(t)‖` (§5.2). The paper's AUTD is a *curve*:
+//! `AUTD(t) = (1/k) Σ_runs UTD_run(t)`, plotted against the step (Figs. 5, 6, 11; drawn here as
+//! `fig5-6-autd.svg`). The tables give two per-run numbers averaged over the arrived runs: `AUTD`,
+//! the run's UTD averaged over its steps `0..=T` (`(1/(T+1)) Σ_t UTD(t)`; a slow run adds many
+//! small late values and so looks better), and `UTD total`, the area under the run's curve
+//! `Σ_{t=0..=T} UTD(t)` (length × steps; it grows with every step a robot is still short of its
+//! goal, and equals the mean over any fixed horizon ≥ T times that horizon, since UTD stays 0
+//! after arrival).
+//!
 //! Where the paper is silent: its worlds are figures only, so ours are generated; a run that does
 //! not arrive (deadlock or step limit) is reported and left out of the means, never counted as
 //! arrived; every planner runs with its registry defaults (joint mode, the waypoint guide and the
-//! `near` obstacle term; `--param guide=goal` gives the paper's literal target) plus the
-//! experiment's `params`.
+//! `near` obstacle term; `--param guide=goal` gives the paper's literal target,
+//! `--param preset=paper` every paper-literal choice) plus the experiment's `params`
+//! (see [`HbmoConfig::params`]).
 
 use std::path::{Path, PathBuf};
 use std::time::Duration;
@@ -37,6 +52,28 @@ use mrpp_core::{Ctx, Deadline, Unsolved, solve};
 /// The paper's steps to arrival on its 6-robot / 4-obstacle world (Fig. 12): HBMO, DE, PSO.
 pub const PAPER_STEPS: [(&str, f64); 3] = [("hbmo", 35.0), ("de", 37.0), ("pso", 38.0)];
 
+/// How the sweeps' worlds are drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SweepWorlds {
+    /// One generated world per sweep value, each from its own seed (mrpp before issue 32).
+    #[default]
+    Fresh,
+    /// One generated world (10 robots, 10 obstacles) for every sweep; a value takes its first
+    /// robots and first obstacles, so each obstacle count keeps the previous count's obstacles
+    /// (the paper, §5).
+    Fixed,
+}
+
+impl SweepWorlds {
+    /// The CLI's name of this choice.
+    pub fn name(self) -> &'static str {
+        match self {
+            SweepWorlds::Fresh => "fresh",
+            SweepWorlds::Fixed => "fixed",
+        }
+    }
+}
+
 /// What to run.
 #[derive(Debug, Clone)]
 pub struct HbmoConfig {
@@ -45,10 +82,14 @@ pub struct HbmoConfig {
     pub runs: usize,
     /// Planners, by registry name.
     pub planners: Vec<String>,
-    /// Extra `-p key=value` parameters given to every planner (unknown keys are errors).
+    /// Extra `-p key=value` parameters, in order (a later value wins). `key=value` goes to every
+    /// chosen planner that declares `key` (a key that none declares is an error);
+    /// `planner:key=value` goes to that planner only (e.g. `hbmo:flights=72`).
     pub params: Vec<(String, String)>,
     /// Wall-clock limit per run.
     pub time_limit: Duration,
+    /// How the sweeps' worlds are drawn (`fig12` is always the bundled world).
+    pub sweep_worlds: SweepWorlds,
 }
 
 impl Default for HbmoConfig {
@@ -59,7 +100,51 @@ impl Default for HbmoConfig {
             planners: ["hbmo", "de", "pso", "orca"].map(String::from).to_vec(),
             params: Vec::new(),
             time_limit: Duration::from_secs(60),
+            sweep_worlds: SweepWorlds::Fresh,
         }
+    }
+}
+
+impl HbmoConfig {
+    /// The parameters `planner` gets (see [`HbmoConfig::params`]).
+    ///
+    /// # Errors
+    /// [`Error::Param`] for a `planner:` prefix that names no continuous planner, or a key that
+    /// no chosen planner declares.
+    pub fn params_for(&self, planner: &str) -> Result<Vec<(String, String)>> {
+        let mut out = Vec::new();
+        for (k, v) in &self.params {
+            if let Some((who, key)) = k.split_once(':') {
+                let entry = mrpp_core::registry::find(PLANNERS, who).ok_or_else(|| {
+                    Error::Param(format!(
+                        "-p {k}={v}: `{who}` is not a continuous planner (hbmo, de, pso, orca)"
+                    ))
+                })?;
+                if !entry.params.iter().any(|p| p.name == key) {
+                    return Err(Error::Param(format!(
+                        "-p {k}={v}: planner `{who}` has no parameter `{key}`"
+                    )));
+                }
+                if who == planner {
+                    out.push((key.to_string(), v.clone()));
+                }
+                continue;
+            }
+            let declares = |name: &str| {
+                mrpp_core::registry::find(PLANNERS, name)
+                    .is_some_and(|e| e.params.iter().any(|p| p.name == k))
+            };
+            if !self.planners.iter().any(|q| declares(q)) {
+                return Err(Error::Param(format!(
+                    "-p {k}={v}: none of the planners {} has a parameter `{k}`",
+                    self.planners.join(", ")
+                )));
+            }
+            if declares(planner) {
+                out.push((k.clone(), v.clone()));
+            }
+        }
+        Ok(out)
     }
 }
 
@@ -86,7 +171,12 @@ pub struct NavRow {
     pub steps: Option<usize>,
     pub atpt: Option<f64>,
     pub atpd: Option<f64>,
+    /// UTD averaged over the run's steps `0..=T` (see the module doc).
     pub autd: Option<f64>,
+    /// `Σ_{t=0..=T} UTD(t)`, the area under the run's UTD curve (length × steps; see the module
+    /// doc).
+    #[serde(default)]
+    pub utd_total: Option<f64>,
     pub runtime_ms: f64,
     /// UTD per step of an arrived run (the AUTD curves).
     pub utd: Vec<f64>,
@@ -100,6 +190,14 @@ pub struct HbmoNavigation {
     pub cfg: HbmoConfig,
     worlds: Vec<PanelWorld>,
     jobs: Vec<(usize, usize, usize)>,
+}
+
+/// The first `robots` robots and first `obstacles` obstacles of `base` (both at most its own).
+pub fn prefix_world(base: &World, robots: usize, obstacles: usize) -> World {
+    let mut w = base.clone();
+    w.robots.truncate(robots);
+    w.obstacles.truncate(obstacles);
+    w
 }
 
 fn with_speed(mut w: World, speed: f64) -> World {
@@ -128,7 +226,7 @@ impl HbmoNavigation {
                     "`{p}` is not a continuous planner (hbmo, de, pso, orca)"
                 ))
             })?;
-            entry.instantiate(&cfg.params)?;
+            entry.instantiate(&cfg.params_for(p)?)?;
         }
         let fig12: PathBuf = data.join("six-robots-four-obstacles.json");
         let mut worlds = vec![PanelWorld {
@@ -136,14 +234,27 @@ impl HbmoNavigation {
             x: 0.0,
             problem: NavProblem::new(World::load(&fig12)?),
         }];
+        let fixed = match cfg.sweep_worlds {
+            SweepWorlds::Fresh => None,
+            SweepWorlds::Fixed => Some(
+                random_world(10, 10, derive_seed(cfg.seed, "world/fixed")).ok_or_else(|| {
+                    Error::Internal("no fixed world with 10 robots and 10 obstacles".into())
+                })?,
+            ),
+        };
         let world_of =
             |panel: &'static str, x: f64, robots: usize, obstacles: usize, speed: f64| {
-                let seed = derive_seed(cfg.seed, &format!("world/{panel}/{x}"));
-                let w = random_world(robots, obstacles, seed).ok_or_else(|| {
-                    Error::Internal(format!(
-                        "no {panel} world with {robots} robots and {obstacles} obstacles"
-                    ))
-                })?;
+                let w = match &fixed {
+                    Some(base) => prefix_world(base, robots, obstacles),
+                    None => {
+                        let seed = derive_seed(cfg.seed, &format!("world/{panel}/{x}"));
+                        random_world(robots, obstacles, seed).ok_or_else(|| {
+                            Error::Internal(format!(
+                                "no {panel} world with {robots} robots and {obstacles} obstacles"
+                            ))
+                        })?
+                    }
+                };
                 Ok::<_, Error>(PanelWorld {
                     panel,
                     x,
@@ -190,7 +301,7 @@ impl Sweep for HbmoNavigation {
         let pw = &self.worlds[w];
         let name = &self.cfg.planners[p];
         let entry = mrpp_core::registry::find(PLANNERS, name).expect("checked in new");
-        let planner = entry.instantiate(&self.cfg.params)?;
+        let planner = entry.instantiate(&self.cfg.params_for(name)?)?;
         let seed = derive_seed(self.cfg.seed, &self.key(job));
         let started = std::time::Instant::now();
         let out = solve(
@@ -213,6 +324,7 @@ impl Sweep for HbmoNavigation {
             atpt: None,
             atpd: None,
             autd: None,
+            utd_total: None,
             runtime_ms,
             utd: Vec::new(),
             picture: Vec::new(),
@@ -225,6 +337,7 @@ impl Sweep for HbmoNavigation {
                 row.atpd = Some(s.metrics.total_deviation);
                 row.autd = Some(s.metrics.mean_utd);
                 row.utd = pw.problem.utd_series(&s.plan);
+                row.utd_total = Some(row.utd.iter().sum());
                 if pw.panel == "fig12" && r == 0 {
                     row.picture = s.plan.positions;
                 }
@@ -253,7 +366,8 @@ impl Sweep for HbmoNavigation {
             planner: r.planner.clone(),
             params: self
                 .cfg
-                .params
+                .params_for(&r.planner)
+                .unwrap_or_default()
                 .iter()
                 .map(|(k, v)| format!("{k}={v}"))
                 .collect::<Vec<_>>()
@@ -318,6 +432,7 @@ fn results_csv(rows: &[&NavRow]) -> Result<String> {
         "atpt",
         "atpd",
         "autd",
+        "utd_total",
         "runtime_ms",
     ])
     .map_err(e)?;
@@ -336,6 +451,7 @@ fn results_csv(rows: &[&NavRow]) -> Result<String> {
             opt(r.atpt),
             opt(r.atpd),
             opt(r.autd),
+            opt(r.utd_total),
             format!("{:.1}", r.runtime_ms),
         ])
         .map_err(e)?;
@@ -358,10 +474,20 @@ fn arrived<'a>(rows: &'a [&NavRow], panel: &str, x: f64, planner: &str) -> Vec<&
         .collect()
 }
 
+/// The two-sided Mann–Whitney p-value of `a` against `b` to three places, or "—" when either has
+/// no arrived run (there is nothing to compare).
+fn p_value(a: &[f64], b: &[f64]) -> String {
+    if a.is_empty() || b.is_empty() {
+        "—".to_string()
+    } else {
+        format!("{:.3}", mann_whitney(a, b).1)
+    }
+}
+
 /// Fig. 12: per method on the bundled world, with HBMO-vs-method p-values.
 fn fig12_table(planners: &[String], rows: &[&NavRow]) -> String {
     let mut s = String::from(
-        "| method | runs arrived | steps (mean ± sd) | paper steps | ATPT | ATPD | AUTD | p (steps, HBMO vs) | p (ATPT, HBMO vs) |\n|---|---|---|---|---|---|---|---|---|\n",
+        "| method | runs arrived | steps (mean ± sd) | paper steps | ATPT | ATPD | AUTD (per-step mean) | UTD total (per run) | p (steps, HBMO vs) | p (ATPT, HBMO vs) |\n|---|---|---|---|---|---|---|---|---|---|\n",
     );
     let runs = |p: &str| {
         rows.iter()
@@ -398,16 +524,17 @@ fn fig12_table(planners: &[String], rows: &[&NavRow]) -> String {
             if p == "hbmo" || !planners.iter().any(|q| q == "hbmo") {
                 "—".to_string()
             } else {
-                format!("{:.3}", mann_whitney(&get("hbmo", f), &get(p, f)).1)
+                p_value(&get("hbmo", f), &get(p, f))
             }
         };
         s.push_str(&format!(
-            "| {p} | {}/{} | {steps_text} | {paper} | {} | {} | {} | {} | {} |\n",
+            "| {p} | {}/{} | {steps_text} | {paper} | {} | {} | {} | {} | {} | {} |\n",
             st.len(),
             runs(p),
             fmt(get(p, &|r| r.atpt)),
             fmt(get(p, &|r| r.atpd)),
             fmt(get(p, &|r| r.autd)),
+            fmt(get(p, &|r| r.utd_total)),
             pv(&steps),
             pv(&|r| r.atpt),
         ));
@@ -425,7 +552,7 @@ fn panel_table(planners: &[String], rows: &[&NavRow], panel: &str, x_name: &str)
     xs.sort_by(f64::total_cmp);
     xs.dedup();
     let mut s = format!(
-        "| {x_name} | method | arrived | steps | ATPT | ATPD | AUTD | p (steps, HBMO vs) | p (ATPT, HBMO vs) |\n|---|---|---|---|---|---|---|---|---|\n"
+        "| {x_name} | method | arrived | steps | ATPT | ATPD | AUTD (per-step mean) | UTD total (per run) | p (steps, HBMO vs) | p (ATPT, HBMO vs) |\n|---|---|---|---|---|---|---|---|---|---|\n"
     );
     for x in xs {
         for p in planners {
@@ -452,17 +579,18 @@ fn panel_table(planners: &[String], rows: &[&NavRow], panel: &str, x_name: &str)
                 if p == "hbmo" || !planners.iter().any(|q| q == "hbmo") {
                     "—".to_string()
                 } else {
-                    format!("{:.3}", mann_whitney(&values("hbmo", f), &values(p, f)).1)
+                    p_value(&values("hbmo", f), &values(p, f))
                 }
             };
             let steps = |r: &NavRow| r.steps.map(|s| s as f64);
             s.push_str(&format!(
-                "| {x} | {p} | {}/{all} | {} | {} | {} | {} | {} | {} |\n",
+                "| {x} | {p} | {}/{all} | {} | {} | {} | {} | {} | {} | {} |\n",
                 a.len(),
                 m(&steps),
                 m(&|r| r.atpt),
                 m(&|r| r.atpd),
                 m(&|r| r.autd),
+                m(&|r| r.utd_total),
                 pv(&steps),
                 pv(&|r| r.atpt)
             ));
@@ -474,12 +602,13 @@ fn panel_table(planners: &[String], rows: &[&NavRow], panel: &str, x_name: &str)
 fn page(t: &HbmoNavigation, rows: &[&NavRow], m: &Manifest) -> String {
     let p = &t.cfg.planners;
     format!(
-        "# HBMO navigation paper, §5 / Figs. 5–12: HBMO, DE, PSO (and ORCA)\n\n`mrpp {}` — mrpp {}, {} runs per world and method, wall time {:.1} s, {} threads. Means over arrived runs; a run that did not arrive (deadlock, step limit) is counted in `arrived` and left out of the means. ATPT = total path traversed, ATPD = total deviation from the ideal paths, AUTD = uncovered target distance averaged over the steps (one run each; the tables average over runs). p = two-sided Mann–Whitney U (normal approximation).\n\n## Fig. 12: 6 robots, 4 obstacles (the bundled world)\n\n{}\nPictures: fig12-<method>.svg (run 0).\n\n## Figs. 6, 9–11: robot count (4 obstacles, speed 16)\n\n{}\n## Fig. 7b: obstacle count (6 robots, speed 16)\n\n{}\n## Fig. 5: speed (6 robots, 5 obstacles)\n\n{}\nAUTD per step: fig5-6-autd.svg; ATPT/ATPD/steps against robots and obstacles: fig7-11-metrics.svg.\n",
+        "# HBMO navigation paper, §5 / Figs. 5–12: HBMO, DE, PSO (and ORCA)\n\n`mrpp {}` — mrpp {}, {} runs per world and method, wall time {:.1} s, {} threads, sweep worlds `{}`. Means over arrived runs; a run that did not arrive (deadlock, step limit) is counted in `arrived` and left out of the means. ATPT = total path traversed, ATPD = total deviation from the ideal paths; with UTD(t) = Σ_i ‖G_i − C_i(t)‖ (§5.2), AUTD (per-step mean) = UTD averaged over a run's steps 0..=T and UTD total (per run) = Σ_t UTD(t) over the run (the tables average both over runs; the paper's AUTD is the curve of UTD(t) averaged over runs, fig5-6-autd.svg). p = two-sided Mann–Whitney U (normal approximation).\n\n## Fig. 12: 6 robots, 4 obstacles (the bundled world)\n\n{}\nPictures: fig12-<method>.svg (run 0).\n\n## Figs. 6, 9–11: robot count (4 obstacles, speed 16)\n\n{}\n## Fig. 7b: obstacle count (6 robots, speed 16)\n\n{}\n## Fig. 5: speed (6 robots, 5 obstacles)\n\n{}\nAUTD per step: fig5-6-autd.svg; ATPT/ATPD/steps against robots and obstacles: fig7-11-metrics.svg.\n",
         m.sweep_command().join(" "),
         m.mrpp_version,
         t.cfg.runs,
         m.wall_seconds,
         m.threads,
+        t.cfg.sweep_worlds.name(),
         fig12_table(p, rows),
         panel_table(p, rows, "robots", "robots"),
         panel_table(p, rows, "obstacles", "obstacles"),
@@ -588,4 +717,103 @@ fn metrics_figure(planners: &[String], rows: &[&NavRow]) -> Result<String> {
         &panels,
     )
     .map_err(Error::Internal)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn data() -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/continuous")
+    }
+
+    fn cfg(params: &[(&str, &str)]) -> HbmoConfig {
+        HbmoConfig {
+            params: params
+                .iter()
+                .map(|(k, v)| (k.to_string(), v.to_string()))
+                .collect(),
+            ..HbmoConfig::default()
+        }
+    }
+
+    #[test]
+    fn params_go_to_the_planners_that_declare_them() {
+        let c = cfg(&[
+            ("guide", "goal"),
+            ("preset", "paper"),
+            ("hbmo:flights", "72"),
+            ("de:population", "30"),
+        ]);
+        let kv = |v: &[(&str, &str)]| -> Vec<(String, String)> {
+            v.iter()
+                .map(|(k, v)| (k.to_string(), v.to_string()))
+                .collect()
+        };
+        assert_eq!(
+            c.params_for("hbmo").unwrap(),
+            kv(&[("guide", "goal"), ("preset", "paper"), ("flights", "72")])
+        );
+        assert_eq!(
+            c.params_for("de").unwrap(),
+            kv(&[("guide", "goal"), ("preset", "paper"), ("population", "30")])
+        );
+        // ORCA declares `guide` but no preset.
+        assert_eq!(c.params_for("orca").unwrap(), kv(&[("guide", "goal")]));
+        assert!(HbmoNavigation::new(c, &data()).is_ok());
+        for bad in [
+            ("nope", "1"),
+            ("hbmo:nope", "1"),
+            ("astar:flights", "1"),
+            ("brood_drones", "false"),
+        ] {
+            let mut c = cfg(&[bad]);
+            if bad.0 == "brood_drones" {
+                // Declared by hbmo only: refused when hbmo is not among the planners.
+                c.planners = vec!["de".into(), "orca".into()];
+            }
+            let e = HbmoNavigation::new(c, &data()).err().expect("refused");
+            assert!(e.to_string().contains(bad.0), "{e}");
+        }
+    }
+
+    #[test]
+    fn fixed_sweep_worlds_keep_the_old_obstacles_and_add_new_ones() {
+        let worlds = |mode, seed| {
+            let c = HbmoConfig {
+                sweep_worlds: mode,
+                seed,
+                ..HbmoConfig::default()
+            };
+            HbmoNavigation::new(c, &data()).unwrap().worlds
+        };
+        let of = |ws: &[PanelWorld], panel: &str| -> Vec<World> {
+            ws.iter()
+                .filter(|w| w.panel == panel)
+                .map(|w| w.problem.world().clone())
+                .collect()
+        };
+        let fixed = worlds(SweepWorlds::Fixed, 4);
+        let obstacles = of(&fixed, "obstacles");
+        assert_eq!(obstacles.len(), 5);
+        for pair in obstacles.windows(2) {
+            let (a, b) = (&pair[0], &pair[1]);
+            assert_eq!(b.obstacles.len(), a.obstacles.len() + 2);
+            assert_eq!(a.obstacles[..], b.obstacles[..a.obstacles.len()]);
+            assert_eq!(a.robots, b.robots);
+        }
+        // Robots are added the same way, and every sweep shares the one world's obstacles.
+        let robots = of(&fixed, "robots");
+        for pair in robots.windows(2) {
+            assert_eq!(pair[0].robots[..], pair[1].robots[..pair[0].robots.len()]);
+            assert_eq!(pair[0].obstacles, pair[1].obstacles);
+        }
+        assert_eq!(robots[0].obstacles[..], obstacles[1].obstacles[..]);
+        // Deterministic from the seed; another seed, another world.
+        assert_eq!(of(&worlds(SweepWorlds::Fixed, 4), "obstacles"), obstacles);
+        assert_ne!(of(&worlds(SweepWorlds::Fixed, 5), "obstacles"), obstacles);
+        // The fresh mode draws unrelated worlds: the obstacles of 2 are not those of 4's first 2.
+        let fresh = of(&worlds(SweepWorlds::Fresh, 4), "obstacles");
+        assert_ne!(fresh[0].obstacles[..], fresh[1].obstacles[..2]);
+    }
 }
