@@ -315,7 +315,7 @@ pub struct HstarTable2Args {
         allow_negative_numbers = true
     )]
     time_limit: f64,
-    /// Only these planners (comma-separated: coevolution, whca, nsga3, hstar).
+    /// Only these planners (comma-separated: coevolution, whca, nsga3, hstar, hstar-paper = H* with the paper's steps only).
     #[arg(long, value_delimiter = ',')]
     planners: Option<Vec<String>>,
     /// Enol2023's collision count: intended, or inverted as in the authors' code.
@@ -650,13 +650,13 @@ fn hstar_table2(a: &HstarTable2Args) -> Result<Table2, Fail> {
     if let Some(keep) = &a.planners {
         if let Some(k) = keep
             .iter()
-            .find(|k| !methods.iter().any(|m| m.planner == k.as_str()))
+            .find(|k| !methods.iter().any(|m| m.key == k.as_str()))
         {
             return Err(Fail(format!(
-                "--planners: unknown planner `{k}` (known: coevolution, whca, nsga3, hstar)"
+                "--planners: unknown planner `{k}` (known: coevolution, whca, nsga3, hstar, hstar-paper)"
             )));
         }
-        methods.retain(|m| keep.iter().any(|k| k == m.planner));
+        methods.retain(|m| keep.iter().any(|k| k == m.key));
     }
     if let Fitness::Inverted = a.coevolution_fitness {
         for m in methods

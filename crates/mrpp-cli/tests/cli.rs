@@ -412,7 +412,7 @@ fn hstar_table2_experiment_writes_its_files() {
         "--runs",
         "1",
         "--planners",
-        "hstar,whca",
+        "hstar,whca,hstar-paper",
         "--out",
         out.to_str().unwrap(),
         "--save-plans",
@@ -430,7 +430,7 @@ fn hstar_table2_experiment_writes_its_files() {
         lines[0],
         "scenario,robots,planner,run,seed,solved,max,sum,runtime_ms"
     );
-    assert_eq!(lines.len(), 1 + 19 * 2);
+    assert_eq!(lines.len(), 1 + 19 * 3);
     // H* solves every row; each of its saved plans passes both checkers.
     let hstar: Vec<&str> = lines
         .iter()
@@ -439,7 +439,26 @@ fn hstar_table2_experiment_writes_its_files() {
         .collect();
     assert_eq!(hstar.len(), 19);
     assert!(hstar.iter().all(|l| l.contains(",true,")), "{csv}");
+    // H* as published (the paper's steps only) reproduces the paper's Sum 120 on SC1 with 6
+    // robots and says why it stops where its steps leave conflicts.
+    let paper: Vec<&str> = lines
+        .iter()
+        .copied()
+        .filter(|l| l.contains(",hstar-paper,"))
+        .collect();
+    assert_eq!(paper.len(), 19);
+    assert!(
+        paper.iter().any(|l| l.starts_with("1,6,hstar-paper,0,")
+            && l.contains(",true,")
+            && l.contains(",120,")),
+        "{csv}"
+    );
     let table = std::fs::read_to_string(out.join("table2.md")).unwrap();
+    assert!(
+        table.contains("| H* paper steps ours | H* paper |"),
+        "{table}"
+    );
+    assert!(table.contains("— paper steps leave conflicts"), "{table}");
     assert_eq!(
         table.lines().filter(|l| l.starts_with("| 1 |")).count(),
         20,

@@ -29,8 +29,14 @@ use mrpp_grid::map::GridMap;
 /// One column of Table II.
 #[derive(Debug, Clone)]
 pub struct Method {
-    /// The paper's column name: `Enol2023`, `WHCA`, `NSGA-III`, `H*`.
+    /// The column's name: the paper's (`Enol2023`, `WHCA`, `NSGA-III`, `H*`) or mrpp's
+    /// (`H* paper steps`).
     pub column: String,
+    /// The paper's column this one is compared with.
+    pub paper_column: String,
+    /// The method's name in `results.csv`, in plan file names and for `--planners`: the
+    /// planner's registry name, or `hstar-paper` for H\* with `variant=paper`.
+    pub key: &'static str,
     /// Registry name of the planner.
     pub planner: &'static str,
     /// Its `-p key=value` parameters (defaults for the rest).
@@ -53,10 +59,14 @@ impl Method {
     }
 }
 
-/// The paper's four methods, in its column order, with our planner names.
+/// The paper's four methods, in its column order, with our planner names, and after them H\*
+/// as the paper publishes it (`-p variant=paper`: the paper's steps only, no repair or local
+/// re-planning; key `hstar-paper`), compared with the paper's H\* column too.
 pub fn table2_methods() -> Vec<Method> {
     let m = |column: &str, planner: &'static str| Method {
         column: column.into(),
+        paper_column: column.into(),
+        key: planner,
         planner,
         params: Vec::new(),
     };
@@ -65,8 +75,18 @@ pub fn table2_methods() -> Vec<Method> {
         m("WHCA", mrpp_grid::cooperative::WHCA),
         m("NSGA-III", mrpp_grid::nsga3::NAME),
         m("H*", mrpp_grid::hstar::NAME),
+        Method {
+            column: "H* paper steps".into(),
+            paper_column: "H*".into(),
+            key: HSTAR_PAPER,
+            planner: mrpp_grid::hstar::NAME,
+            params: vec![("variant".into(), "paper".into())],
+        },
     ]
 }
+
+/// The key of the column of H\* as published ([`table2_methods`]).
+pub const HSTAR_PAPER: &str = "hstar-paper";
 
 /// What to run.
 #[derive(Debug, Clone)]
@@ -204,7 +224,7 @@ impl Table2 {
             robots: li.info.robots,
             label: li.info.label.clone(),
             column: self.cfg.methods[m].column.clone(),
-            planner: self.planners[m].name().to_string(),
+            planner: self.cfg.methods[m].key.to_string(),
             run,
             seed,
             solved: metrics.is_some(),
@@ -241,9 +261,7 @@ impl Sweep for Table2 {
         let li = &self.instances[i];
         format!(
             "sc{}/{}/{}/{run}",
-            li.info.scenario,
-            li.info.robots,
-            self.planners[m].name()
+            li.info.scenario, li.info.robots, self.cfg.methods[m].key
         )
     }
 
@@ -261,7 +279,7 @@ impl Sweep for Table2 {
         if let (true, Ok(s)) = (self.cfg.save_plans, &outcome) {
             let map_file = file_name(&li.info.map);
             let info = RunInfo {
-                planner: row.planner.clone(),
+                planner: self.planners[job.1].name().to_string(),
                 seed,
                 runtime_ms,
                 ..RunInfo::default()
@@ -447,7 +465,7 @@ pub fn render_table2_markdown(
     let mut s = String::new();
     s.push_str("| SC | robots |");
     for m in methods {
-        s.push_str(&format!(" {} ours | {} paper |", m.column, m.column));
+        s.push_str(&format!(" {} ours | {} paper |", m.column, m.paper_column));
     }
     s.push('\n');
     s.push_str("|---|---|");
@@ -463,11 +481,18 @@ pub fn render_table2_markdown(
             let ours = match (c.mean_max, c.mean_sum) {
                 (Some(mx), Some(sm)) if c.solved == c.runs => format!("{mx:.1} / {sm:.1}"),
                 (Some(mx), Some(sm)) => format!("{mx:.1} / {sm:.1} ({}/{})", c.solved, c.runs),
+                // H* as published says why it stopped (the other columns stay empty, as the
+                // paper's do).
+                _ if m.key == HSTAR_PAPER && c.runs > 0 => rows
+                    .iter()
+                    .find(|r| r.scenario == sc && r.robots == n && r.column == m.column)
+                    .map(|r| format!("— {}", why(&r.note)))
+                    .unwrap_or_default(),
                 _ => String::new(),
             };
             let theirs = paper
                 .iter()
-                .find(|p| p.scenario == sc && p.robots == n && p.column == m.column)
+                .find(|p| p.scenario == sc && p.robots == n && p.column == m.paper_column)
                 .and_then(|p| p.max_sum)
                 .map(|(mx, sm)| format!("{mx:.1} / {sm:.1}"))
                 .unwrap_or_default();
@@ -476,6 +501,17 @@ pub fn render_table2_markdown(
         s.push('\n');
     }
     s
+}
+
+/// The first clause of a planner's reason for not solving (before any parenthesis), without
+/// the table's `|`.
+fn why(note: &str) -> String {
+    note.split(" (")
+        .next()
+        .unwrap_or(note)
+        .replace('|', "/")
+        .trim()
+        .to_string()
 }
 
 /// `table2.md`: ours beside the paper's Table II, lower bounds, Enol2023's stage 1, runtimes.
