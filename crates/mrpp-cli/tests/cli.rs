@@ -403,6 +403,44 @@ fn info_reports_lower_bounds() {
     );
 }
 
+/// Issue 32: the paper's steps fail SC1 with 9 robots under the first-neighbour tie-break, and
+/// one seeded random tie-break (seed 2) reproduces the paper's H* cell exactly, Max 38 and Sum
+/// 196 (docs/reproduction/hstar.md, "Ties").
+#[test]
+fn a_random_tie_break_of_the_papers_steps_reproduces_its_sc1_9_cell() {
+    let out = tmp("ties");
+    std::fs::create_dir_all(&out).unwrap();
+    let plan = out.join("plan.json");
+    let solve = |tie: &str, seed: &str| {
+        mrpp(&[
+            "-q",
+            "solve",
+            "--map",
+            &data("hstar-paper/scenario1/scenery.txt"),
+            "--scen",
+            &data("hstar-paper/scenario1/9coordinates.txt"),
+            "--planner",
+            "hstar",
+            "-p",
+            "variant=paper",
+            "-p",
+            &format!("tie_break={tie}"),
+            "-s",
+            seed,
+            "--out",
+            plan.to_str().unwrap(),
+        ])
+    };
+    assert_eq!(solve("first", "0").status.code(), Some(3));
+    let o = solve("random", "2");
+    assert_eq!(o.status.code(), Some(0), "{}", text(&o).1);
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&plan).unwrap()).unwrap();
+    assert_eq!(v["metrics"]["makespan"], 38);
+    assert_eq!(v["metrics"]["sum_of_costs"], 196);
+    let _ = std::fs::remove_dir_all(&out);
+}
+
 #[test]
 fn hstar_table2_experiment_writes_its_files() {
     let out = tmp("table2");

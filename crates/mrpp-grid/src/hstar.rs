@@ -87,6 +87,21 @@ pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             default: "true",
             doc: "when the repair gives up, finish from the paper's conflict-free prefix with LaCAM (repaired variant)",
         },
+        Param {
+            name: "tie_break",
+            default: "first",
+            doc: "Algorithm 1's choice among equally short routes: first = the first neighbour in the order up, right, down, left; random = a seeded uniform one (the paper does not say)",
+        },
+        Param {
+            name: "update",
+            default: "sequential",
+            doc: "how the greedy stage moves robots within one time step: sequential = one after another, each seeing the moves before it; simultaneous = all against the positions at the step's start (the paper does not say)",
+        },
+        Param {
+            name: "target_occupancy",
+            default: "when-parked",
+            doc: "when a robot on another's target node blocks it: when-parked = only once it has arrived on its own goal; always = whenever any robot stands there (the paper read literally; it freezes Scenario 2, where every target is another robot's start)",
+        },
     ],
     build: |p| {
         let variant =
@@ -95,6 +110,12 @@ pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             variant,
             replanning_passes: p.get_in("replanning_passes", 0..=1000)?,
             complete: [true, false][p.choice("complete", &["true", "false"])?],
+            tie_break: [TieBreak::First, TieBreak::Random]
+                [p.choice("tie_break", &["first", "random"])?],
+            update: [GreedyUpdate::Sequential, GreedyUpdate::Simultaneous]
+                [p.choice("update", &["sequential", "simultaneous"])?],
+            target_occupancy: [TargetOccupancy::BlocksWhenParked, TargetOccupancy::Blocks]
+                [p.choice("target_occupancy", &["when-parked", "always"])?],
             ..HStar::default()
         }))
     },
