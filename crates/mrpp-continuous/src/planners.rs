@@ -125,11 +125,6 @@ fn loop_navigation(p: &Params) -> mrpp_core::error::Result<Navigation> {
     })
 }
 
-/// The navigation settings' `straight_init` (heading planners only).
-fn straight_init(p: &Params) -> mrpp_core::error::Result<bool> {
-    p.get("straight_init")
-}
-
 /// The navigation settings from a planner's parameters (the loop's, then mode and objective).
 fn navigation(p: &Params) -> mrpp_core::error::Result<Navigation> {
     let mode = [Mode::Joint, Mode::PerRobot][p.choice("mode", &["joint", "per-robot"])?];
@@ -142,7 +137,7 @@ fn navigation(p: &Params) -> mrpp_core::error::Result<Navigation> {
             f_st: p.get_in("f_st", 0.0..=1e12)?,
             obstacle,
         },
-        straight_init: straight_init(p)?,
+        straight_init: p.get("straight_init")?,
         ..loop_navigation(p)?
     })
 }

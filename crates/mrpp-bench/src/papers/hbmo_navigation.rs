@@ -188,6 +188,8 @@ pub struct NavRow {
 /// The experiment as a sweep: jobs (world, planner, run).
 pub struct HbmoNavigation {
     pub cfg: HbmoConfig,
+    /// Each planner's parameters ([`HbmoConfig::params_for`]), in `cfg.planners`' order.
+    params: Vec<Vec<(String, String)>>,
     worlds: Vec<PanelWorld>,
     jobs: Vec<(usize, usize, usize)>,
 }
@@ -217,6 +219,7 @@ impl HbmoNavigation {
                 cfg.runs
             )));
         }
+        let mut params = Vec::with_capacity(cfg.planners.len());
         for (k, p) in cfg.planners.iter().enumerate() {
             if cfg.planners[..k].contains(p) {
                 return Err(Error::Param(format!("planner `{p}` is named twice")));
@@ -226,7 +229,9 @@ impl HbmoNavigation {
                     "`{p}` is not a continuous planner (hbmo, de, pso, orca)"
                 ))
             })?;
-            entry.instantiate(&cfg.params_for(p)?)?;
+            let given = cfg.params_for(p)?;
+            entry.instantiate(&given)?;
+            params.push(given);
         }
         let fig12: PathBuf = data.join("six-robots-four-obstacles.json");
         let mut worlds = vec![PanelWorld {
@@ -274,7 +279,12 @@ impl HbmoNavigation {
         let jobs = (0..worlds.len())
             .flat_map(|w| (0..np).flat_map(move |p| (0..nr).map(move |r| (w, p, r))))
             .collect();
-        Ok(HbmoNavigation { cfg, worlds, jobs })
+        Ok(HbmoNavigation {
+            cfg,
+            params,
+            worlds,
+            jobs,
+        })
     }
 
     fn label(&self, w: usize) -> String {
@@ -301,7 +311,7 @@ impl Sweep for HbmoNavigation {
         let pw = &self.worlds[w];
         let name = &self.cfg.planners[p];
         let entry = mrpp_core::registry::find(PLANNERS, name).expect("checked in new");
-        let planner = entry.instantiate(&self.cfg.params_for(name)?)?;
+        let planner = entry.instantiate(&self.params[p])?;
         let seed = derive_seed(self.cfg.seed, &self.key(job));
         let started = std::time::Instant::now();
         let out = solve(
@@ -366,7 +376,10 @@ impl Sweep for HbmoNavigation {
             planner: r.planner.clone(),
             params: self
                 .cfg
-                .params_for(&r.planner)
+                .planners
+                .iter()
+                .position(|q| *q == r.planner)
+                .map(|k| self.params[k].as_slice())
                 .unwrap_or_default()
                 .iter()
                 .map(|(k, v)| format!("{k}={v}"))
