@@ -523,6 +523,16 @@ fn mean(xs: impl Iterator<Item = f64>) -> f64 {
     if n == 0 { f64::NAN } else { s / n as f64 }
 }
 
+/// The mean of finished runs' ratios to 3 decimals, `-` when no run finished.
+fn ratio(xs: impl Iterator<Item = f64>) -> String {
+    let m = mean(xs);
+    if m.is_nan() {
+        "-".into()
+    } else {
+        format!("{m:.3}")
+    }
+}
+
 /// Per (instance, planner, executor, p): runs, runs with a collision, deadlocks, mean
 /// collisions, mean executed / planned makespan and sum of costs (finished runs).
 fn table(rows: &[&ExecRow]) -> String {
@@ -548,7 +558,7 @@ fn table(rows: &[&ExecRow]) -> String {
         let deadlocks = g.iter().filter(|r| r.status == "deadlock").count();
         let done: Vec<&&ExecRow> = g.iter().filter(|r| r.status == "finished").collect();
         out.push_str(&format!(
-            "| {} | {} | {} | {} | {} | {} | {} | {} ({:.0}%) | {} | {:.1} | {:.1} | {:.3} | {:.3} |\n",
+            "| {} | {} | {} | {} | {} | {} | {} | {} ({:.0}%) | {} | {:.1} | {:.1} | {} | {} |\n",
             f.instance,
             f.planner,
             f.k,
@@ -561,8 +571,8 @@ fn table(rows: &[&ExecRow]) -> String {
             deadlocks,
             mean(g.iter().map(|r| r.collisions as f64)),
             mean(g.iter().map(|r| r.replans as f64)),
-            mean(done.iter().map(|r| r.makespan_ratio)),
-            mean(done.iter().map(|r| r.sum_of_costs_ratio)),
+            ratio(done.iter().map(|r| r.makespan_ratio)),
+            ratio(done.iter().map(|r| r.sum_of_costs_ratio)),
         ));
     }
     out

@@ -62,7 +62,7 @@ pub(crate) fn execute(a: &ExecuteArgs) -> Result<u8, Fail> {
     let delays = DelayConfig::parse(a.inputs.delays.as_deref().unwrap_or("none")).map_err(Fail)?;
     let name = a.inputs.executor.as_deref().unwrap_or("adg");
     let executor = ExecutorKind::parse(name)
-        .ok_or_else(|| Fail(format!("--executor {name}: expected adg or naive")))?;
+        .ok_or_else(|| Fail(format!("--executor {name}: expected adg, tpg or naive")))?;
     let ticks_per_move = crate::family::ticks_per_move(&a.inputs)?.unwrap_or(1);
     let agent_size = crate::family::agent_size(&a.inputs)?.unwrap_or(1.0);
     if a.inputs.lorr.is_some() && a.inputs.lifelong {

@@ -77,7 +77,8 @@ pub enum Experiment {
     )]
     Lorr(LorrArgs),
     /// One-shot grid plans executed on robots that are late: each instance x planner x delay
-    /// probability x executor (the action dependency graph, adg, or the plan's timing, naive) x
+    /// probability x executor (the action dependency graph, adg; the League's default, tpg; or
+    /// the plan's timing, naive) x
     /// run; collisions, deadlocks, executed makespan and sum of costs over the plan's.
     #[command(
         after_help = "Examples (from the repository's root):\n  mrpp experiment execution --runs 20 -o out/execution\n  mrpp experiment execution --instance data/movingai/random-32-32-20.map:data/movingai/random-32-32-20-random-1.scen:100 --planners lacam,lacam*,eecbs --delays 0,0.01,0.05 -o out/execution-random"
@@ -109,7 +110,7 @@ pub struct ExecutionArgs {
     /// Longest delay, ticks.
     #[arg(long, default_value_t = 10, allow_negative_numbers = true, value_parser = crate::output::parse_count)]
     max_delay: usize,
-    /// Executors (comma-separated): adg, naive.
+    /// Executors (comma-separated): adg, tpg (the League's default executor), naive.
     #[arg(long, value_delimiter = ',', default_value = "naive,adg")]
     executors: Vec<String>,
     /// Plans re-timed to be k-robust before execution (comma-separated k; 0 = as planned): no
@@ -474,7 +475,7 @@ pub fn run(cmd: Experiment, merge: Option<Mode>) -> Result<u8, Fail> {
                 .iter()
                 .map(|e| {
                     mrpp_exec::ExecutorKind::parse(e)
-                        .ok_or_else(|| Fail(format!("--executors: {e} is not adg or naive")))
+                        .ok_or_else(|| Fail(format!("--executors: {e} is not adg, tpg or naive")))
                 })
                 .collect::<Result<Vec<_>, Fail>>()?;
             let ticks = |v: usize, flag: &str| {

@@ -81,7 +81,8 @@ pub struct Inputs {
     #[arg(long)]
     pub delays: Option<String>,
     /// Execution: who says when a robot goes. `execute`: adg (the action dependency graph,
-    /// default) or naive (the plan's timing). Lifelong in ticks: tpg (the League's default
+    /// default), tpg (the League's default executor: per-cell queues; a ring of the plan stops
+    /// it) or naive (the plan's timing). Lifelong in ticks: tpg (the League's default
     /// executor, default) or naive.
     #[arg(long)]
     pub executor: Option<String>,

@@ -173,7 +173,8 @@ enum Command {
     },
     /// Execute a grid plan tick by tick on robots that are late: seeded delays (the League of
     /// Robot Runners' models), moves of --ticks-per-move ticks, and an executor: the action
-    /// dependency graph (adg: the plan's order of passage at every cell is kept) or naive (the
+    /// dependency graph (adg: the plan's order of passage at every cell is kept), the League's
+    /// default executor (tpg: per-cell queues; it stops at a ring of the plan) or naive (the
     /// plan's timing; it may collide). Writes the executed record; exit 3 if it collided.
     #[command(
         after_help = "Examples (from the repository's root), after mrpp solve -m data/movingai/random-32-32-20.map -i data/movingai/random-32-32-20-random-1.scen -N 100 -P lacam -o plan.json:\n  mrpp execute -m data/movingai/random-32-32-20.map --plan plan.json --delays bernoulli:p=0.01,min=1,max=4 --executor adg --ticks-per-move 3 -s 1 -o trace.json\n  mrpp execute -m data/movingai/random-32-32-20.map --plan plan.json --delays poisson:p=0.002,min=5,max=12,duration=gaussian --executor naive --ticks-per-move 3 -o naive.json"

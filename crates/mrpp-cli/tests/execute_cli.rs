@@ -108,6 +108,15 @@ fn a_plan_runs_late_safely_with_the_adg_and_collides_naively() {
     assert_eq!(code, Some(3), "{err}");
     assert!(err.contains("collided"), "{err}");
     assert!(naive.exists());
+    // The League's executor stops for good at the plan's rings (LaCAM's plan has some here).
+    let tpg = dir.join("tpg.json");
+    let (code, err) = execute(
+        &plan,
+        &tpg,
+        &[&delays[..], &["--agent-size", "0.5", "--executor", "tpg"]].concat(),
+    );
+    assert_eq!(code, Some(3), "{err}");
+    assert!(err.contains("deadlock at tick"), "{err}");
     // The independent checker (Python, standard library) replays both records and agrees on
     // their collisions and costs; a record with one move made a tick faster is refused.
     for (trace, collided) in [(&adg, false), (&naive, true)] {
@@ -254,7 +263,7 @@ fn the_execution_experiment_sweeps_delays_and_executors() {
         dir.join("bad").to_str().unwrap(),
     ]);
     assert_eq!(code, Some(1));
-    assert!(err.contains("fast is not adg or naive"), "{err}");
+    assert!(err.contains("fast is not adg, tpg or naive"), "{err}");
     assert!(!dir.join("bad").exists());
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -12,7 +12,15 @@
 //! **Executors.** `adg`: a robot starts a move once every move it depends on in the action
 //! dependency graph ([`Adg`]) is finished (Hönig et al., RA-L 2019); `naive`: a robot starts its
 //! `k`-th move at the plan's time of that move (`step x ticks_per_move`) or, when it is late, at
-//! once; it may collide.
+//! once; it may collide; `tpg`: the League of Robot Runners start kit's default executor (v3.1.0,
+//! `default_planner/default_executor.cpp`; mrpp's lifelong copy is
+//! `mrpp_lifelong::executor`), a temporal plan graph after Ma, Kumar & Koenig, AAAI 2017: per
+//! cell, the queue of robots the plan brings there, in the plan's order (the robot starting there
+//! first); a robot starts a move when it heads the queue of the cell it enters, and leaves a
+//! cell's queue when its move out of that cell is finished. On one-shot plans staged whole this
+//! keeps the same order of passage as the ADG, but it has no joint execution of rings: a ring
+//! of the plan (each robot entering the cell the next leaves) waits forever, and the execution
+//! ends in [`Ending::Deadlock`], as the kit's executor would stop those robots for good.
 //!
 //! **Rotations.** A plan may move robots in a ring at one step, each into the cell the next
 //! leaves (grid plans allow it; LaCAM's do it). Their moves depend on each other, so the ADG alone
@@ -27,6 +35,8 @@
 //! `agent_size` around that point (the League's `agentSize`). Two footprints collide when they
 //! overlap with positive area (squares that only touch do not).
 
+use std::collections::VecDeque;
+
 use mrpp_core::mapf::graph::VertexId;
 use mrpp_core::mapf::plan::Plan;
 use mrpp_mapf::GridMap;
@@ -40,8 +50,12 @@ use crate::replan::Replanning;
 /// Who decides when a robot starts its next move (module doc).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum ExecutorKind {
+    /// The action dependency graph (rings executed jointly).
     Adg,
+    /// The plan's timing.
     Naive,
+    /// The League's default executor: per-cell queues in the plan's order.
+    Tpg,
 }
 
 impl ExecutorKind {
@@ -49,14 +63,16 @@ impl ExecutorKind {
         match self {
             ExecutorKind::Adg => "adg",
             ExecutorKind::Naive => "naive",
+            ExecutorKind::Tpg => "tpg",
         }
     }
 
-    /// `adg` or `naive`.
+    /// `adg`, `naive` or `tpg`.
     pub fn parse(s: &str) -> Option<Self> {
         match s {
             "adg" => Some(ExecutorKind::Adg),
             "naive" => Some(ExecutorKind::Naive),
+            "tpg" => Some(ExecutorKind::Tpg),
             _ => None,
         }
     }
@@ -83,7 +99,8 @@ pub struct ExecConfig {
 pub enum Ending {
     /// Every robot made all its moves.
     Finished,
-    /// No robot could progress and none was held (the ADG of a valid plan never does this).
+    /// No robot could progress and none was held (the ADG of a valid plan never does this;
+    /// `tpg` does at a ring of the plan, module doc).
     Deadlock { tick: u64 },
     /// `max_ticks` passed.
     TickLimit,
@@ -147,6 +164,28 @@ fn centre(map: &GridMap, v: VertexId) -> [f64; 2] {
     [f64::from(x) + 0.5, f64::from(y) + 0.5]
 }
 
+/// Per cell, the robots `plan` brings there in its order of passage, each robot's start first
+/// (the `tpg` executor's queues; module doc).
+fn cell_queues(plan: &Plan, cells: usize) -> Vec<VecDeque<u32>> {
+    let mut stays: Vec<(VertexId, usize, u32)> = Vec::new();
+    for (i, path) in plan.paths.iter().enumerate() {
+        if let Some(&start) = path.first() {
+            stays.push((start, 0, i as u32));
+        }
+        for (t, w) in path.windows(2).enumerate() {
+            if w[0] != w[1] {
+                stays.push((w[1], t + 1, i as u32));
+            }
+        }
+    }
+    stays.sort_unstable();
+    let mut queues = vec![VecDeque::new(); cells];
+    for (v, _, i) in stays {
+        queues[v as usize].push_back(i);
+    }
+    queues
+}
+
 /// Executes `plan` on `map` (module doc).
 pub fn execute(map: &GridMap, plan: &Plan, cfg: &ExecConfig) -> Execution {
     execute_replanning(map, plan, cfg, None).0
@@ -193,6 +232,18 @@ pub fn execute_replanning(
     };
     let mut rotations = joint(&adg);
     let mut ring_of = rings_of(&adg, &rotations);
+    let cells = map.graph().num_vertices();
+    let tpg = cfg.executor == ExecutorKind::Tpg;
+    let queues_of = |plan: &Plan| {
+        if tpg {
+            cell_queues(plan, cells)
+        } else {
+            Vec::new()
+        }
+    };
+    let mut queues = queues_of(&cur);
+    // Robots whose one-tick move finished this tick: they leave their cell's queue at its end.
+    let mut leaving: Vec<(VertexId, u32)> = Vec::new();
     let ring = |ring_of: &[Vec<usize>], i: usize, k: usize| {
         ring_of[i].get(k).copied().filter(|&g| g != usize::MAX)
     };
@@ -288,6 +339,7 @@ pub fn execute_replanning(
                         adg = Adg::new(&cur);
                         rotations = joint(&adg);
                         ring_of = rings_of(&adg, &rotations);
+                        queues = queues_of(&cur);
                         starts = cur.paths.iter().map(|p| p[0]).collect();
                         t0 = tick;
                         replans.push(tick);
@@ -331,6 +383,9 @@ pub fn execute_replanning(
             if p + 1 == c {
                 progress[i] = None;
                 record[i].last_mut().expect("a move in progress")[1] = tick + 1;
+                if tpg {
+                    leave(&mut queues, adg.moves[i][done[i]].from, i as u32);
+                }
                 done[i] += 1;
             } else {
                 progress[i] = Some(p + 1);
@@ -368,6 +423,9 @@ pub fn execute_replanning(
                 (ExecutorKind::Adg, Some(g)) => starting[g],
                 (ExecutorKind::Adg, None) => adg.deps[i][k].iter().all(|&(j, m)| finished[j] > m),
                 (ExecutorKind::Naive, _) => tick >= planned,
+                (ExecutorKind::Tpg, _) => {
+                    queues[adg.moves[i][k].to as usize].front() == Some(&(i as u32))
+                }
             };
             if !go {
                 // Beyond the plan's own waits: the plan would have this move under way by now.
@@ -379,15 +437,21 @@ pub fn execute_replanning(
             moved = true;
             record[i].push([tick, tick + 1]);
             if c == 1 {
+                if tpg {
+                    leaving.push((adg.moves[i][k].from, i as u32));
+                }
                 done[i] += 1;
             } else {
                 progress[i] = Some(1);
             }
         }
+        for (v, i) in leaving.drain(..) {
+            leave(&mut queues, v, i);
+        }
         tick += 1;
         positions(&centres, &adg, &starts, &done, &progress, c, &mut points);
         grid.overlaps(&points, cfg.agent_size, tick - 1, &mut collisions);
-        if !moved && !held_any && cfg.executor == ExecutorKind::Adg {
+        if !moved && !held_any && cfg.executor != ExecutorKind::Naive {
             break Ending::Deadlock { tick: tick - 1 };
         }
     };
@@ -429,6 +493,15 @@ pub fn execute_replanning(
         replans,
     };
     (execution, executed)
+}
+
+/// Robot `i` leaves the queue of cell `v` (it heads it: it stood there).
+fn leave(queues: &mut [VecDeque<u32>], v: VertexId, i: u32) {
+    let q = &mut queues[v as usize];
+    debug_assert_eq!(q.front(), Some(&i), "a robot leaves a cell it heads");
+    if q.front() == Some(&i) {
+        q.pop_front();
+    }
 }
 
 /// Every robot's point at the end of a tick, into `out` (`centres` of the map's vertices).

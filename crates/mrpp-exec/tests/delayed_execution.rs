@@ -186,3 +186,108 @@ fn check_refuses_a_tampered_record() {
             .contains("collisions")
     );
 }
+
+/// The League's default executor (`tpg`) keeps the plan's order of passage with per-cell queues:
+/// on a plan without rings it executes exactly as the ADG, delay for delay; at a ring of the plan
+/// (robots each entering the cell the next leaves) it waits forever, where the ADG executes the
+/// ring jointly.
+#[test]
+fn tpg_executes_ring_free_plans_as_the_adg_and_stops_at_a_ring() {
+    let (mut ring_free, mut ringed) = (0, 0);
+    for (name, agents) in [("eecbs", 30), ("lacam", 60)] {
+        let (grid, problem) = mrpp_grid::load_problem(
+            &data("random-32-32-20.map"),
+            &data("random-32-32-20-random-1.scen"),
+            Some(agents),
+        )
+        .unwrap();
+        let entry = PLANNERS.iter().find(|e| e.name == name).unwrap();
+        let plan = solve(
+            entry.instantiate(&[]).unwrap().as_ref(),
+            &problem,
+            &Ctx::default(),
+        )
+        .unwrap()
+        .plan;
+        let rings = mrpp_exec::Adg::new(&plan).rotation_cycles();
+        for seed in 0..40u64 {
+            let cfg = |executor| ExecConfig {
+                executor,
+                ticks_per_move: 1 + (seed % 3) as u32,
+                delays: DelayConfig::parse("bernoulli:p=0.05,min=1,max=4").unwrap(),
+                seed,
+                agent_size: SIZE,
+                max_ticks: 20_000,
+            };
+            let adg = execute(&grid, &plan, &cfg(ExecutorKind::Adg));
+            let tpg = execute(&grid, &plan, &cfg(ExecutorKind::Tpg));
+            assert_eq!(adg.ending, Ending::Finished);
+            if rings.is_empty() {
+                assert_eq!(tpg.ending, Ending::Finished, "{name} seed {seed}");
+                assert_eq!(tpg.moves, adg.moves, "{name} seed {seed}");
+                assert_eq!(tpg.delays, adg.delays);
+                check(
+                    &grid,
+                    &plan,
+                    &tpg,
+                    cfg(ExecutorKind::Tpg).ticks_per_move,
+                    SIZE,
+                )
+                .unwrap();
+            } else {
+                assert!(
+                    matches!(tpg.ending, Ending::Deadlock { .. }),
+                    "{name} seed {seed}: {:?}",
+                    tpg.ending
+                );
+                assert!(tpg.collisions.is_empty());
+            }
+        }
+        if rings.is_empty() {
+            ring_free += 1;
+        } else {
+            ringed += 1;
+        }
+    }
+    // A ring by hand: four robots turning round a 2 x 2 block at step 0.
+    let (empty, _) = mrpp_grid::load_problem(
+        &data("empty-8-8.map"),
+        &data("empty-8-8-random-1.scen"),
+        Some(1),
+    )
+    .unwrap();
+    let at = |x, y| empty.vertex_at(x, y).unwrap();
+    let square = [at(0, 0), at(1, 0), at(1, 1), at(0, 1)];
+    let plan = mrpp_core::mapf::plan::Plan {
+        paths: (0..4)
+            .map(|i| vec![square[i], square[(i + 1) % 4]])
+            .collect(),
+    };
+    let cfg = |executor| ExecConfig {
+        executor,
+        ticks_per_move: 2,
+        delays: DelayConfig::none(),
+        seed: 0,
+        agent_size: SIZE,
+        max_ticks: 1_000,
+    };
+    assert_eq!(
+        execute(&empty, &plan, &cfg(ExecutorKind::Adg)).ending,
+        Ending::Finished
+    );
+    assert_eq!(
+        execute(&empty, &plan, &cfg(ExecutorKind::Tpg)).ending,
+        Ending::Deadlock { tick: 0 }
+    );
+    eprintln!(
+        "tpg: {ring_free} ring-free plan(s) executed as the ADG, {ringed} with rings stopped"
+    );
+    assert!(
+        ring_free > 0,
+        "no ring-free plan: the equality was never checked"
+    );
+    assert!(
+        ringed > 0,
+        "no plan with a ring: the deadlock was never checked"
+    );
+}
