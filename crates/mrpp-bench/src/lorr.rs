@@ -16,7 +16,7 @@
 //! run's overall limit is twice its steps' budgets plus its
 //! preprocessing time plus a minute, and a peer gets the same.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Duration;
 
 use serde::{Deserialize, Serialize};
@@ -72,6 +72,10 @@ pub struct TicksConfig {
     pub plan_every: u32,
     /// Delays for mrpp's runs instead of each problem's `delayConfig` (a peer reads the file).
     pub delays: Option<DelayConfig>,
+    /// Delay probabilities to sweep (empty: each problem's own): each problem runs once per
+    /// value, its delays (`delays`, else its `delayConfig`) with `pDelay` replaced; a peer reads
+    /// a copy of the problem file whose `delayConfig` says the same.
+    pub delay_probabilities: Vec<f64>,
 }
 
 /// One run of the sweep.
@@ -92,7 +96,11 @@ pub enum LorrJob {
 /// A run's result.
 #[derive(Debug, Clone, Serialize, Deserialize)]
 pub struct LorrRow {
+    /// The problem's name (with `@p=P` in a sweep over delay probabilities).
     pub problem: String,
+    /// The delay probability of a sweep over them (`None`: the problem's own).
+    #[serde(default)]
+    pub p_delay: Option<f64>,
     pub robots: usize,
     pub free_cells: usize,
     /// The planner's or the peer's name.
@@ -122,6 +130,9 @@ pub struct LorrRow {
 pub struct LorrSweep {
     cfg: LorrConfig,
     problems: Vec<(String, LifelongProblem)>,
+    /// Per entry of `problems`: its file's index in the configuration and the swept delay
+    /// probability, if any.
+    sources: Vec<(usize, Option<f64>)>,
     jobs: Vec<LorrJob>,
 }
 
@@ -160,28 +171,54 @@ impl LorrSweep {
             check_placeholders(&peer.command)?;
         }
         let mut problems = Vec::new();
-        for path in &cfg.problems {
+        let mut sources = Vec::new();
+        let mut names = std::collections::HashSet::new();
+        for (index, path) in cfg.problems.iter().enumerate() {
             let mut p = LifelongProblem::load(path, cfg.model, cfg.steps, cfg.step_time)?
                 .with_preprocess_time(cfg.preprocess_time);
-            if let Some(t) = &cfg.ticks {
-                let mut m = ExecutionModel::of_problem(p.files())?;
-                m.executor = t.executor;
-                m.plan_every = t.plan_every;
-                if let Some(d) = &t.delays {
-                    m.delays = d.clone();
-                }
-                p = p.with_execution(m);
-            }
             let name = path.file_stem().map_or_else(
                 || path.display().to_string(),
                 |s| s.to_string_lossy().into(),
             );
-            if problems.iter().any(|(n, _)| *n == name) {
+            if !names.insert(name.clone()) {
                 return Err(Error::Param(format!(
                     "two problems are named {name}: give files with different names"
                 )));
             }
-            problems.push((name, p));
+            let Some(t) = &cfg.ticks else {
+                problems.push((name, p));
+                sources.push((index, None));
+                continue;
+            };
+            let mut m = ExecutionModel::of_problem(p.files())?;
+            m.executor = t.executor;
+            m.plan_every = t.plan_every;
+            if let Some(d) = &t.delays {
+                m.delays = d.clone();
+            }
+            if t.delay_probabilities.is_empty() {
+                p = p.with_execution(m);
+                problems.push((name, p));
+                sources.push((index, None));
+                continue;
+            }
+            if t.delays.is_none() && p.files().json.get("delayConfig").is_none() {
+                return Err(Error::Param(format!(
+                    "{}: no delayConfig to sweep the delay probability of; give --delays (its durations are kept, its p replaced)",
+                    path.display()
+                )));
+            }
+            for &prob in &t.delay_probabilities {
+                if !(0.0..=1.0).contains(&prob) {
+                    return Err(Error::Param(format!(
+                        "delay probability {prob}: expected a number in [0, 1]"
+                    )));
+                }
+                let mut m = m.clone();
+                m.delays.p_delay = prob;
+                problems.push((format!("{name}@p={prob}"), p.clone().with_execution(m)));
+                sources.push((index, Some(prob)));
+            }
         }
         let mut jobs = Vec::new();
         for problem in 0..problems.len() {
@@ -207,6 +244,7 @@ impl LorrSweep {
         Ok(LorrSweep {
             cfg,
             problems,
+            sources,
             jobs,
         })
     }
@@ -215,6 +253,7 @@ impl LorrSweep {
         let (name, p) = &self.problems[problem];
         LorrRow {
             problem: name.clone(),
+            p_delay: self.sources[problem].1,
             robots: p.num_agents(),
             free_cells: p.map().graph().num_vertices(),
             program: program.into(),
@@ -270,6 +309,37 @@ impl LorrSweep {
         Ok(())
     }
 
+    /// The problem file a peer reads: the configuration's, or in a sweep over delay
+    /// probabilities a copy in `dir` whose `delayConfig` is this entry's delays and whose files
+    /// are named relative to `dir` (the kit reads them relative to the problem file).
+    fn peer_problem(&self, problem: usize, dir: &Path) -> std::result::Result<PathBuf, String> {
+        let (index, prob) = self.sources[problem];
+        let path = &self.cfg.problems[index];
+        let path = std::fs::canonicalize(path).unwrap_or_else(|_| path.clone());
+        if prob.is_none() {
+            return Ok(path);
+        }
+        let p = &self.problems[problem].1;
+        let m = p.execution().expect("a sweep over delays runs in ticks");
+        let mut json = p.files().json.clone();
+        let base = path.parent().unwrap_or(Path::new("/"));
+        // `dir` is absolute: climb to the root, then down to the original file.
+        let up = "../".repeat(dir.components().count().saturating_sub(1));
+        for key in ["mapFile", "agentFile", "taskFile"] {
+            if let Some(rel) = json.get(key).and_then(|v| v.as_str()) {
+                let file = base.join(rel);
+                let file = file.strip_prefix("/").unwrap_or(&file).to_string_lossy();
+                json[key] = serde_json::Value::String(format!("{up}{file}"));
+            }
+        }
+        json["delayConfig"] =
+            mrpp_lifelong::execution::delay_config_json(&m.delays, m.delay_seed);
+        let copy = dir.join(path.file_name().unwrap_or_else(|| "problem.json".as_ref()));
+        std::fs::write(&copy, json.to_string())
+            .map_err(|e| format!("cannot write {}: {e}", copy.display()))?;
+        Ok(copy)
+    }
+
     fn run_peer(&self, problem: usize, peer: &PeerSpec) -> LorrRow {
         let mut row = self.row(problem, &peer.name);
         row.scheduler = "its own".into();
@@ -283,8 +353,14 @@ impl LorrSweep {
             return row;
         }
         let out = dir.join("out.json");
-        let path = &self.cfg.problems[problem];
-        let path = std::fs::canonicalize(path).unwrap_or_else(|_| path.clone());
+        let path = match self.peer_problem(problem, &dir) {
+            Ok(path) => path,
+            Err(e) => {
+                row.status = "peer_failed".into();
+                row.note = e;
+                return row;
+            }
+        };
         let mut command = peer.command.clone();
         for (k, v) in [
             ("problem", shell_quote(&path.to_string_lossy())),
@@ -476,11 +552,15 @@ impl Sweep for LorrSweep {
         }]
     }
     fn pages(&self, rows: &[&LorrRow], m: &Manifest) -> Result<Vec<(String, String)>> {
-        Ok(vec![
+        let mut pages = vec![
             ("results.csv".into(), results_csv(rows)?),
             ("lorr.md".into(), page(self, rows, m)),
             ("throughput.svg".into(), figure(self, rows)?),
-        ])
+        ];
+        if self.sources.iter().any(|s| s.1.is_some()) {
+            pages.push(("delays.svg".into(), delay_figure(self, rows)?));
+        }
+        Ok(pages)
     }
     fn summary(&self, rows: &[&LorrRow]) -> String {
         table(rows)
@@ -610,7 +690,7 @@ fn page(sweep: &LorrSweep, rows: &[&LorrRow], m: &Manifest) -> String {
          {}, {} s preprocessing, {}. Every run below was replayed by mrpp's \
          lifelong validator (the start kit's rules); tasks finished are its count. Planner times \
          are each run's own record (machine-dependent).\n\n{}\n{}\n\
-         Tasks finished over the steps: `throughput.svg`; every run: `results.csv`.\n",
+         Tasks finished over the steps: `throughput.svg`{}; every run: `results.csv`.\n",
         m.mrpp_version,
         m.command.join(" "),
         m.seed,
@@ -644,6 +724,11 @@ fn page(sweep: &LorrSweep, rows: &[&LorrRow], m: &Manifest) -> String {
             String::new()
         } else {
             format!("Runs without a result:\n{}\n", failed.join("\n"))
+        },
+        if sweep.sources.iter().any(|s| s.1.is_some()) {
+            "; over the delay probability: `delays.svg`"
+        } else {
+            ""
         }
     )
 }
@@ -683,6 +768,70 @@ fn figure(sweep: &LorrSweep, rows: &[&LorrRow]) -> Result<String> {
     .map_err(Error::Internal)
 }
 
+/// One panel per problem file of a sweep over delay probabilities: tasks finished (mean over
+/// runs) over the delay probability, a line per configuration.
+fn delay_figure(sweep: &LorrSweep, rows: &[&LorrRow]) -> Result<String> {
+    let mut files: Vec<usize> = sweep.sources.iter().map(|s| s.0).collect();
+    files.dedup();
+    let panels: Vec<Panel> = files
+        .into_iter()
+        .map(|index| {
+            let names: Vec<&str> = sweep
+                .sources
+                .iter()
+                .zip(&sweep.problems)
+                .filter(|(s, _)| s.0 == index)
+                .map(|(_, (n, _))| n.as_str())
+                .collect();
+            let mine: Vec<&&LorrRow> = rows
+                .iter()
+                .filter(|r| names.contains(&r.problem.as_str()) && r.tasks_finished.is_some())
+                .collect();
+            let mut labels: Vec<String> = mine.iter().map(|r| label(r)).collect();
+            labels.sort();
+            labels.dedup();
+            let series = labels
+                .into_iter()
+                .map(|l| {
+                    let mut points: Vec<(f64, f64)> = Vec::new();
+                    for name in &names {
+                        let done: Vec<f64> = mine
+                            .iter()
+                            .filter(|r| r.problem == *name && label(r) == l)
+                            .filter_map(|r| r.tasks_finished.map(|t| t as f64))
+                            .collect();
+                        let p = mine
+                            .iter()
+                            .find(|r| r.problem == *name)
+                            .and_then(|r| r.p_delay);
+                        if let (Some(p), false) = (p, done.is_empty()) {
+                            points.push((p, done.iter().sum::<f64>() / done.len() as f64));
+                        }
+                    }
+                    Series {
+                        name: l,
+                        points,
+                        ..Series::default()
+                    }
+                })
+                .collect();
+            Panel {
+                title: sweep.cfg.problems[index]
+                    .file_stem()
+                    .map_or_else(String::new, |s| s.to_string_lossy().into()),
+                series,
+            }
+        })
+        .collect();
+    line_panels(
+        "tasks finished over the delay probability (mean over runs)",
+        "delay probability per robot per tick",
+        "tasks finished",
+        &panels,
+    )
+    .map_err(Error::Internal)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -693,6 +842,70 @@ mod tests {
         assert!(check_placeholders("kit -i {problem}").is_err());
         let e = check_placeholders("kit -i {problem} -o {out} {seed}").unwrap_err();
         assert!(e.to_string().contains("{seed}"), "{e}");
+    }
+
+    #[test]
+    fn a_sweep_over_delay_probabilities_gives_each_value_its_problem_and_peer_file() {
+        let problem = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("../../data/robot-runners/lorr2026-maze/maze-example_40.json");
+        let cfg = |probabilities: Vec<f64>| LorrConfig {
+            seed: 0,
+            problems: vec![problem.clone()],
+            steps: 30,
+            step_time: Duration::from_millis(100),
+            preprocess_time: Duration::from_secs(1),
+            model: ActionModel::MapfT,
+            planners: vec![PIBT_ENTRY.name.into()],
+            schedulers: vec!["greedy".into()],
+            guidance: vec!["auto".into()],
+            runs: 1,
+            peer: None,
+            ticks: Some(TicksConfig {
+                executor: ExecutorKind::Tpg,
+                plan_every: 10,
+                delays: None,
+                delay_probabilities: probabilities,
+            }),
+        };
+        let sweep = LorrSweep::new(cfg(vec![0.0, 0.05])).unwrap();
+        let names: Vec<&str> = sweep.problems.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(names, ["maze-example_40@p=0", "maze-example_40@p=0.05"]);
+        let own = ExecutionModel::of_problem(sweep.problems[0].1.files()).unwrap();
+        let swept = sweep.problems[1].1.execution().unwrap();
+        assert_eq!(swept.delays.p_delay, 0.05);
+        assert_eq!(swept.delays.min_delay, own.delays.min_delay);
+        assert_eq!(swept.delays.max_delay, own.delays.max_delay);
+        assert_eq!(sweep.jobs.len(), 2);
+        // The peer's copy: the same problem, read from elsewhere, with the swept delays.
+        let dir = std::env::temp_dir().join(format!("mrpp-lorr-sweep-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let copy = sweep.peer_problem(1, &dir).unwrap();
+        assert_eq!(copy.parent(), Some(dir.as_path()));
+        let read = LifelongProblem::load(
+            &copy,
+            ActionModel::MapfT,
+            30,
+            Duration::from_millis(100),
+        )
+        .unwrap();
+        let model = ExecutionModel::of_problem(read.files()).unwrap();
+        assert_eq!(model.delays, swept.delays);
+        assert_eq!(model.delay_seed, own.delay_seed);
+        assert_eq!(read.num_agents(), sweep.problems[1].1.num_agents());
+        assert_eq!(
+            read.map().graph().num_vertices(),
+            sweep.problems[1].1.map().graph().num_vertices()
+        );
+        // Without a sweep the peer reads the file itself.
+        let own_only = LorrSweep::new(cfg(Vec::new())).unwrap();
+        assert_eq!(own_only.problems[0].0, "maze-example_40");
+        assert_eq!(
+            own_only.peer_problem(0, &dir).unwrap(),
+            std::fs::canonicalize(&problem).unwrap()
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
+        let e = LorrSweep::new(cfg(vec![1.5])).err().unwrap();
+        assert!(e.to_string().contains("[0, 1]"), "{e}");
     }
 
     #[test]

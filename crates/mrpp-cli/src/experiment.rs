@@ -169,6 +169,11 @@ pub struct LorrArgs {
     /// `bernoulli:p=0.01,min=1,max=4` (a peer reads the problem file).
     #[arg(long, requires = "ticks")]
     delays: Option<String>,
+    /// With --ticks: delay probabilities to sweep (comma-separated, each in [0, 1]): every
+    /// problem runs once per value, its delays (--delays, else its delayConfig) with pDelay
+    /// replaced; a peer reads a copy of the problem file that says the same. Adds delays.svg.
+    #[arg(long, value_delimiter = ',', allow_negative_numbers = true, requires = "ticks")]
+    delay_probabilities: Vec<f64>,
     /// Planning time per step, in seconds.
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     step_time_limit: f64,
@@ -567,6 +572,7 @@ pub fn run(cmd: Experiment, merge: Option<Mode>) -> Result<u8, Fail> {
                         .map(mrpp_exec::DelayConfig::parse)
                         .transpose()
                         .map_err(Fail)?,
+                    delay_probabilities: a.delay_probabilities.clone(),
                 }),
             };
             let cfg = LorrConfig {

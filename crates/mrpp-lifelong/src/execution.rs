@@ -136,6 +136,31 @@ impl ExecutionModel {
     }
 }
 
+/// The `delayConfig` object the kit reads for `delays` and `seed` (its eight fields; the
+/// inverse of what [`ExecutionModel::of_problem`] reads).
+pub fn delay_config_json(delays: &DelayConfig, seed: u64) -> Value {
+    let (duration, mean, std) = match delays.duration_model {
+        DurationModel::Uniform => ("uniform", 0.5, 0.22),
+        DurationModel::Gaussian {
+            mean_ratio,
+            std_ratio,
+        } => ("gaussian", mean_ratio, std_ratio),
+    };
+    serde_json::json!({
+        "seed": seed,
+        "minDelay": delays.min_delay,
+        "maxDelay": delays.max_delay,
+        "eventModel": match delays.event_model {
+            EventModel::Bernoulli => "bernoulli",
+            EventModel::Poisson => "poisson",
+        },
+        "pDelay": delays.p_delay,
+        "durationModel": duration,
+        "gaussMeanRatio": mean,
+        "gaussStdRatio": std,
+    })
+}
+
 /// A `delayConfig` object and its seed (the kit's eight fields, all required).
 fn delay_config(v: &Value, path: &Path) -> Result<(DelayConfig, u64)> {
     let field = |k: &str| {
