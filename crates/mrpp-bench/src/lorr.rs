@@ -332,8 +332,7 @@ impl LorrSweep {
                 json[key] = serde_json::Value::String(format!("{up}{file}"));
             }
         }
-        json["delayConfig"] =
-            mrpp_lifelong::execution::delay_config_json(&m.delays, m.delay_seed);
+        json["delayConfig"] = mrpp_lifelong::execution::delay_config_json(&m.delays, m.delay_seed);
         let copy = dir.join(path.file_name().unwrap_or_else(|| "problem.json".as_ref()));
         std::fs::write(&copy, json.to_string())
             .map_err(|e| format!("cannot write {}: {e}", copy.display()))?;
@@ -881,13 +880,8 @@ mod tests {
         std::fs::create_dir_all(&dir).unwrap();
         let copy = sweep.peer_problem(1, &dir).unwrap();
         assert_eq!(copy.parent(), Some(dir.as_path()));
-        let read = LifelongProblem::load(
-            &copy,
-            ActionModel::MapfT,
-            30,
-            Duration::from_millis(100),
-        )
-        .unwrap();
+        let read = LifelongProblem::load(&copy, ActionModel::MapfT, 30, Duration::from_millis(100))
+            .unwrap();
         let model = ExecutionModel::of_problem(read.files()).unwrap();
         assert_eq!(model.delays, swept.delays);
         assert_eq!(model.delay_seed, own.delay_seed);

@@ -172,7 +172,12 @@ pub struct LorrArgs {
     /// With --ticks: delay probabilities to sweep (comma-separated, each in [0, 1]): every
     /// problem runs once per value, its delays (--delays, else its delayConfig) with pDelay
     /// replaced; a peer reads a copy of the problem file that says the same. Adds delays.svg.
-    #[arg(long, value_delimiter = ',', allow_negative_numbers = true, requires = "ticks")]
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_negative_numbers = true,
+        requires = "ticks"
+    )]
     delay_probabilities: Vec<f64>,
     /// Planning time per step, in seconds.
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
