@@ -240,3 +240,22 @@ def test_errors_name_the_file_line_and_rule(tmp_path):
     path.write_text(json.dumps(broken))
     with pytest.raises(mrpp.MrppError, match="invalid plan"):
         mrpp.validate(problem, path)
+
+
+def test_errors_speak_python_not_command_lines():
+    """Messages name keyword arguments, not the command line's flags, and a ``Result``'s plan,
+    not the temporary file it passes through (issue 30 item 8)."""
+    problem = mrpp.Problem.grid(WAREHOUSE_MAP, WAREHOUSE_ROBOTS)
+    with pytest.raises(mrpp.MrppError) as e:
+        mrpp.solve(problem, "hstar", time_limit=0)
+    assert "time_limit must be more than 0" in str(e.value)
+    assert "--" not in str(e.value)
+    result = mrpp.solve(problem, "hstar")
+    envelope = json.loads(result.to_json())
+    envelope["agents"][1]["path"] = envelope["agents"][0]["path"]
+    broken = mrpp.Result(solved=True, status="solved", envelope=envelope)
+    with pytest.raises(mrpp.MrppError) as e:
+        mrpp.validate(problem, broken)
+    message = str(e.value)
+    assert message.startswith("the result's plan: invalid plan"), message
+    assert "mrpp-" not in message and ".json" not in message, message

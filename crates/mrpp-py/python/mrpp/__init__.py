@@ -17,8 +17,10 @@ instance JSON), formations (formation JSON over a polygon map) and continuous wo
 
 from __future__ import annotations
 
+import contextlib
 import json
 import os
+import re
 import tempfile
 from dataclasses import dataclass, field
 from typing import Any, Dict, List, Mapping, Optional, Tuple, Union
@@ -43,6 +45,27 @@ __all__ = [
 ]
 
 __version__: str = _native.__version__
+
+# A command-line flag in a message from the shared Rust core (`--time-limit`).
+_FLAG = re.compile(r"(?<![\w-])--([a-z][a-z0-9]*(?:-[a-z0-9]+)*)")
+
+
+def _pythonic(message: str, plan_path: Optional[str] = None) -> str:
+    """A core message as a Python user reads it: flags become keyword names (``--time-limit``
+    -> ``time_limit``) and a ``Result``'s temporary plan file becomes "the result's plan"."""
+    if plan_path is not None:
+        message = message.replace(plan_path + ":1:", "the result's plan:")
+        message = message.replace(plan_path, "the result's plan")
+    return _FLAG.sub(lambda m: m.group(1).replace("-", "_"), message)
+
+
+@contextlib.contextmanager
+def _plain_errors(plan_path: Optional[str] = None):
+    """Re-raises the core's ``MrppError`` with its message made pythonic (``_pythonic``)."""
+    try:
+        yield
+    except MrppError as e:
+        raise MrppError(_pythonic(str(e), plan_path)) from None
 
 PathLike = Union[str, "os.PathLike[str]"]
 
@@ -86,7 +109,8 @@ class Problem:
         self._inputs = {k: (os.fspath(v) if isinstance(v, os.PathLike) else v)
                         for k, v in inputs.items() if v is not None and v is not False}
         self._json = json.dumps(self._inputs)
-        self.family, self.summary, self.num_agents = _native.load(self._json)
+        with _plain_errors():
+            self.family, self.summary, self.num_agents = _native.load(self._json)
 
     @classmethod
     def grid(cls, map: PathLike, scen: PathLike, agents: Optional[int] = None) -> "Problem":
@@ -238,7 +262,8 @@ class Simulation:
         if problem.family != "lifelong":
             raise MrppError("a Simulation needs a lifelong problem: Problem.lorr(..., lifelong=True)")
         self.problem = problem
-        self._native = _native.Simulation(problem._json)
+        with _plain_errors():
+            self._native = _native.Simulation(problem._json)
 
     def state(self) -> Dict[str, Any]:
         """The state now: ``t`` (steps done), ``steps`` (the horizon), ``action_model``,
@@ -308,7 +333,10 @@ def solve(
     pairs = [(str(k), _param(v)) for k, v in (params or {}).items()]
     if not isinstance(seed, int) or seed < 0:
         raise MrppError(f"seed must be a non-negative integer, got {seed!r}")
-    solved, status, envelope = _native.solve(problem._json, planner, pairs, seed, float(time_limit))
+    with _plain_errors():
+        solved, status, envelope = _native.solve(
+            problem._json, planner, pairs, seed, float(time_limit)
+        )
     return Result(solved, status, json.loads(envelope))
 
 
@@ -343,7 +371,7 @@ def validate(problem: Problem, plan: Union[Result, PathLike]) -> Dict[str, Any]:
     """Checks a plan (a ``Result`` or a plan file: envelope or LaCAM text) against ``problem``
     with the family's validator, claimed metrics included. Returns the metrics; raises
     ``MrppError`` naming the first violation (agents, cell or node, time step)."""
-    with _PlanFile(plan) as path:
+    with _PlanFile(plan) as path, _plain_errors(path if isinstance(plan, Result) else None):
         _, metrics = _native.validate(problem._json, path)
     return json.loads(metrics)
 
@@ -351,7 +379,7 @@ def validate(problem: Problem, plan: Union[Result, PathLike]) -> Dict[str, Any]:
 def view_html(problem: Problem, plan: Union[Result, PathLike]) -> str:
     """The viewer's self-contained HTML page (what ``mrpp view`` writes): play, pause, step,
     scrub, the validator's first violation marked."""
-    with _PlanFile(plan) as path:
+    with _PlanFile(plan) as path, _plain_errors(path if isinstance(plan, Result) else None):
         return _native.view_page(problem._json, path)
 
 
