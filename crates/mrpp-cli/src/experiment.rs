@@ -361,6 +361,12 @@ pub struct GpCommon {
     /// with --paper-settings the paper's 4-10, and 4-9 for Table 4's test problems).
     #[arg(long, value_parser = parse_depths)]
     depths: Option<RangeInclusive<u32>>,
+    /// Where problems come from: paper = the paper's text (Algorithm 2 with b = 4 on a depth
+    /// budget, |R| = #leaves - 1); authors = the authors' public code (a node budget, 1-3
+    /// children a node, |R| uniform in 2..#leaves - 1; the paper's problem sizes, about 15
+    /// nodes and 4 robots), where --depths are node budgets (default 4-10, tests 4-9).
+    #[arg(long, value_parser = ["paper", "authors"], default_value = "paper")]
+    distribution: String,
     /// Output directory (default out/gp-tableN).
     #[arg(short = 'o', long)]
     out: Option<PathBuf>,
@@ -736,9 +742,24 @@ impl GpCommon {
                 "--problems must be between 1 and 100000, got {problems}"
             )));
         }
+        let distribution = mrpp_bench::papers::gp_trees::Distribution::parse(&self.distribution)
+            .ok_or_else(|| {
+                Fail(format!(
+                    "--distribution {}: expected paper or authors",
+                    self.distribution
+                ))
+            })?;
+        // The authors' node budgets are 4-10 at every scale (their problems are small).
+        let (train, test) = match distribution {
+            mrpp_bench::papers::gp_trees::Distribution::Authors => (4..=10, 4..=9),
+            mrpp_bench::papers::gp_trees::Distribution::Paper => {
+                (base.train_depths.clone(), base.test_depths.clone())
+            }
+        };
         let cfg = GpExperimentConfig {
-            train_depths: self.depths.clone().unwrap_or(base.train_depths.clone()),
-            test_depths: self.depths.clone().unwrap_or(base.test_depths.clone()),
+            train_depths: self.depths.clone().unwrap_or(train),
+            test_depths: self.depths.clone().unwrap_or(test),
+            distribution,
             seed: self.seed,
             params,
             run_time_limit: positive_seconds("run-time-limit", self.run_time_limit)?,

@@ -31,6 +31,21 @@
 //!
 //! Everything is drawn from one `ChaCha8Rng` seeded with the problem seed: first the tree, then
 //! the robots, so a (depth, seed) pair gives the same tree whatever the robot count.
+//!
+//! **The authors' distribution** ([`generate_authors_problem`]). The authors' public code (Java,
+//! `RobotsAndGraph.createRandomGraph` and `RobotsAndGraphList`) draws problems otherwise than
+//! the paper's text, and its problems have the sizes the paper reports (about 15 nodes and 4
+//! robots). mrpp offers it as a second distribution, written from that code's behaviour:
+//! - a *node budget* `n` per problem, uniform in 4–10 (`baseSeed` 4 + `nextInt(7)`);
+//! - the tree grows from node 0: a node with budget `n` draws `k` uniform in 1–3 (if `k > n`,
+//!   `k` uniform in 1–`n` instead) and gets `k` children, each grown with budget `n − k` (a
+//!   child with budget 0 is not made) — [`authors_tree`]; numbering and adjacency order as for
+//!   Algorithm 2 above (the authors' code rebuilds its adjacency through a spanning-tree pass,
+//!   whose order is not reproduced);
+//! - robots: with `L` leaves (non-root nodes of degree 1, as the code counts them), `|R|`
+//!   uniform in 2–`L − 1` when `L > 2`, else `L − 1`; a problem with fewer than 2 robots is
+//!   drawn again (the code keeps only problems with more than one robot); starts and goals as
+//!   above. The code draws from an unseeded `java.util.Random`; mrpp draws from the problem seed.
 
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -183,6 +198,89 @@ pub fn generate_problem(spec: &ProblemSpec, seed: u64) -> Result<TreeInstance> {
     )))
 }
 
+/// A tree of the authors' code for node budget `budget` (module doc, "The authors'
+/// distribution"): the node count and the edges, children in creation order, each edge listed
+/// after its child's subtree. At most `3^budget` nodes; budgets above 12 are refused.
+///
+/// # Errors
+/// A budget of 0 or above 12.
+pub fn authors_tree(
+    budget: u32,
+    rng: &mut ChaCha8Rng,
+) -> Result<(usize, Vec<(VertexId, VertexId)>)> {
+    if !(1..=12).contains(&budget) {
+        return Err(Error::Param(format!(
+            "node budget {budget}: expected 1 to 12"
+        )));
+    }
+    fn grow(
+        budget: u32,
+        rng: &mut ChaCha8Rng,
+        n: &mut usize,
+        edges: &mut Vec<(VertexId, VertexId)>,
+    ) -> VertexId {
+        let me = *n as VertexId;
+        *n += 1;
+        let mut k = rng.random_range(1..=3u32);
+        if k > budget {
+            k = rng.random_range(1..=budget);
+        }
+        for _ in 0..k {
+            if budget > k {
+                let child = grow(budget - k, rng, n, edges);
+                edges.push((me, child));
+            }
+        }
+        me
+    }
+    let (mut n, mut edges) = (0usize, Vec::new());
+    grow(budget, rng, &mut n, &mut edges);
+    Ok((n, edges))
+}
+
+/// A problem of the authors' distribution (module doc): the node budget uniform in `budgets`,
+/// [`authors_tree`], and `robots` robots — [`RobotCount::LeavesMinusOne`] reads as the authors'
+/// count, uniform in 2–#leaves − 1, and then problems with fewer than 2 robots are redrawn; other
+/// counts as [`RobotCount::resolve`] gives them (trees with fewer than 2 leaves or 3 nodes are
+/// redrawn). Returns the budget drawn and the problem, fully determined by `seed`.
+///
+/// # Errors
+/// A budget range outside 1–12, or no fitting tree in 10,000 draws.
+pub fn generate_authors_problem(
+    budgets: std::ops::RangeInclusive<u32>,
+    robots: RobotCount,
+    seed: u64,
+) -> Result<(u32, TreeInstance)> {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    for _ in 0..MAX_REDRAWS {
+        let budget = rng.random_range(budgets.clone());
+        let (n, edges) = authors_tree(budget, &mut rng)?;
+        let graph = mrpp_core::mapf::graph::Graph::from_edges(n, &edges);
+        let leaves = crate::instance::count_leaves(&graph);
+        if n < 3 || leaves < 2 {
+            continue;
+        }
+        let count = match robots {
+            RobotCount::LeavesMinusOne if leaves > 2 => rng.random_range(2..=leaves - 1),
+            RobotCount::LeavesMinusOne => leaves - 1,
+            other => other.resolve(leaves, n),
+        };
+        if robots == RobotCount::LeavesMinusOne && count < 2 {
+            continue;
+        }
+        let instance = place_robots(n, count, &mut rng);
+        return Ok((
+            budget,
+            TreeInstance::new(n, edges, instance).map_err(Error::Param)?,
+        ));
+    }
+    Err(Error::Param(format!(
+        "no tree of node budget {}-{} with a problem in {MAX_REDRAWS} draws",
+        budgets.start(),
+        budgets.end()
+    )))
+}
+
 /// `count` robots on `n` nodes: distinct uniform starts, distinct uniform goals, each goal
 /// different from its robot's start. Needs `1 <= count <= n − 2` (so a goal is always left).
 pub fn place_robots(n: usize, count: usize, rng: &mut ChaCha8Rng) -> Instance {
@@ -301,5 +399,42 @@ mod tests {
             ..ProblemSpec::paper(1, RobotCount::LeavesMinusOne)
         };
         assert!(generate_problem(&impossible, 0).is_err());
+    }
+}
+
+#[cfg(test)]
+mod authors_tests {
+    use super::*;
+
+    /// The authors' distribution gives the paper's problem sizes (its text reports 14.9 nodes and
+    /// 3.9 robots a problem on average); every problem has at least 2 robots.
+    #[test]
+    fn the_authors_distribution_has_the_papers_problem_sizes() {
+        let (mut nodes, mut robots, mut leaves) = (0usize, 0usize, 0usize);
+        let runs = 2000;
+        for seed in 0..runs {
+            let (budget, t) =
+                generate_authors_problem(4..=10, RobotCount::LeavesMinusOne, seed).unwrap();
+            assert!((4..=10).contains(&budget));
+            assert!(t.num_robots() >= 2 && t.num_robots() < t.num_leaves());
+            nodes += t.num_nodes();
+            robots += t.num_robots();
+            leaves += t.num_leaves();
+        }
+        let mean = |x: usize| x as f64 / runs as f64;
+        eprintln!(
+            "authors' distribution: {:.1} nodes, {:.1} leaves, {:.2} robots per problem",
+            mean(nodes),
+            mean(leaves),
+            mean(robots)
+        );
+        assert!((12.0..=18.0).contains(&mean(nodes)), "{}", mean(nodes));
+        assert!((3.0..=5.0).contains(&mean(robots)), "{}", mean(robots));
+        // Deterministic for a seed; a budget out of range is refused.
+        let a = generate_authors_problem(4..=10, RobotCount::LeavesMinusOne, 7).unwrap();
+        let b = generate_authors_problem(4..=10, RobotCount::LeavesMinusOne, 7).unwrap();
+        assert_eq!(a.1.num_nodes(), b.1.num_nodes());
+        assert_eq!(a.1.instance.starts, b.1.instance.starts);
+        assert!(generate_authors_problem(0..=3, RobotCount::LeavesMinusOne, 0).is_err());
     }
 }

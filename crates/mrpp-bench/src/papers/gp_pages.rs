@@ -5,8 +5,8 @@ use std::fmt::Write as _;
 
 use crate::harness::Manifest;
 use crate::papers::gp_trees::{
-    Comparison, GpExperimentConfig, GpTable4, PAPER_TABLE3, PAPER_TABLE3_TOTALS, PAPER_TABLE4,
-    PAPER_TABLE5, ProblemRow, Table4Row, TestRow, mean_by_x, swap_ratio,
+    Comparison, Distribution, GpExperimentConfig, GpTable4, PAPER_TABLE3, PAPER_TABLE3_TOTALS,
+    PAPER_TABLE4, PAPER_TABLE5, ProblemRow, Table4Row, TestRow, mean_by_x, swap_ratio,
 };
 use crate::report::{Panel, Series, csv_text, line_panels};
 use mrpp_core::error::{Error, Result};
@@ -165,10 +165,16 @@ pub fn table3(
     m: &Manifest,
 ) -> Result<Vec<(String, String)>> {
     let (d0, d1) = (cfg.train_depths.start(), cfg.train_depths.end());
-    let what = format!(
-        "{} problems (#leaves − 1 robots, depth budgets {d0}–{d1}, b = 4)",
-        rows.len()
-    );
+    let what = match cfg.distribution {
+        Distribution::Paper => format!(
+            "{} problems (the paper's distribution: #leaves − 1 robots, depth budgets {d0}–{d1}, b = 4)",
+            rows.len()
+        ),
+        Distribution::Authors => format!(
+            "{} problems (the authors' distribution: node budgets {d0}–{d1}, 1–3 children a node, 2 to #leaves − 1 robots)",
+            rows.len()
+        ),
+    };
     let md = format!(
         "# GP paper, Table 3: GP evolved per problem vs PSW\n\n{}\n{}",
         made_by(m, &what),
@@ -414,9 +420,10 @@ fn fig67(
 pub fn table4(t4: &GpTable4, rows: &[&Table4Row], m: &Manifest) -> Result<Vec<(String, String)>> {
     let cfg = &t4.cfg;
     let what = format!(
-        "{} trials per |X|, {} new test problems per trial (depth budgets {}–{}; training {}–{})",
+        "{} trials per |X|, {} new test problems per trial ({} distribution, budgets {}–{}; training {}–{})",
         t4.trials,
         t4.tests,
+        cfg.distribution.name(),
         cfg.test_depths.start(),
         cfg.test_depths.end(),
         cfg.train_depths.start(),

@@ -35,7 +35,7 @@ use mrpp_core::error::{Error, Result};
 use mrpp_core::mapf::plan::Plan;
 use mrpp_core::seeds::derive_seed;
 use mrpp_core::{Ctx, Deadline, Unsolved, accept, solve};
-use mrpp_trees::generator::{ProblemSpec, RobotCount, generate_problem};
+use mrpp_trees::generator::{ProblemSpec, RobotCount, generate_authors_problem, generate_problem};
 use mrpp_trees::gp::{Gp, GpParams, Problem, Program, evolve, plan_program};
 use mrpp_trees::instance::TreeInstance;
 use mrpp_trees::psw::Psw;
@@ -59,10 +59,43 @@ pub const PAPER_TABLE5: [(f64, f64, f64); 4] = [
     (1.5, 58.0, 34.0),
 ];
 
+/// Where problems come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Distribution {
+    /// The paper's text: Algorithm 2 with b = 4 on a depth budget, |R| = #leaves − 1 (Table 3).
+    #[default]
+    Paper,
+    /// The authors' public code: a node budget, 1–3 children a node, |R| uniform in
+    /// 2–#leaves − 1 ([`generate_authors_problem`]); the paper's problem sizes.
+    Authors,
+}
+
+impl Distribution {
+    /// `paper` or `authors`.
+    pub fn name(self) -> &'static str {
+        match self {
+            Distribution::Paper => "paper",
+            Distribution::Authors => "authors",
+        }
+    }
+
+    /// `paper` or `authors`.
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "paper" => Some(Distribution::Paper),
+            "authors" => Some(Distribution::Authors),
+            _ => None,
+        }
+    }
+}
+
 /// What every GP experiment shares.
 #[derive(Debug, Clone)]
 pub struct GpExperimentConfig {
     pub seed: u64,
+    /// Where problems come from; with [`Distribution::Authors`] the depth ranges below are the
+    /// authors' node budgets (their code: 4–10).
+    pub distribution: Distribution,
     pub params: GpParams,
     /// Depth budgets of training problems (paper: 4–10) and of test problems (paper: 4–9).
     pub train_depths: RangeInclusive<u32>,
@@ -80,6 +113,7 @@ impl Default for GpExperimentConfig {
     fn default() -> Self {
         GpExperimentConfig {
             seed: 0,
+            distribution: Distribution::Paper,
             params: GpParams::default(),
             train_depths: 4..=10,
             test_depths: 4..=9,
@@ -122,15 +156,28 @@ impl GpExperimentConfig {
 
 /// Problem `index` of the set named `set`: the depth budget is drawn uniformly from `depths`, the
 /// tree and robots from the generator, both from seeds derived from `seed` and the set's key.
+///
+/// With [`Distribution::Authors`] the budget is the authors' node budget, drawn the same way, and
+/// the problem comes from [`generate_authors_problem`] (|R| = #leaves − 1 reads as their uniform
+/// count).
 pub fn draw_problem(
     seed: u64,
     set: &str,
     index: usize,
     depths: &RangeInclusive<u32>,
     robots: RobotCount,
+    distribution: Distribution,
 ) -> Result<(u32, TreeInstance)> {
     let span = u64::from(depths.end() - depths.start() + 1);
     let depth = depths.start() + (derive_seed(seed, &format!("{set}/{index}/depth")) % span) as u32;
+    if distribution == Distribution::Authors {
+        let (_, t) = generate_authors_problem(
+            depth..=depth,
+            robots,
+            derive_seed(seed, &format!("{set}/{index}")),
+        )?;
+        return Ok((depth, t));
+    }
     let spec = ProblemSpec::paper(depth, robots);
     let t = generate_problem(&spec, derive_seed(seed, &format!("{set}/{index}")))?;
     Ok((depth, t))
@@ -279,7 +326,14 @@ fn per_problem(
     robots: RobotCount,
     multiplier: Option<f64>,
 ) -> Result<ProblemRow> {
-    let (depth, t) = draw_problem(cfg.seed, set, index, &cfg.train_depths, robots)?;
+    let (depth, t) = draw_problem(
+        cfg.seed,
+        set,
+        index,
+        &cfg.train_depths,
+        robots,
+        cfg.distribution,
+    )?;
     let (psw_run, psw_swaps) = run_psw(cfg, &t)?;
     let psw_steps = psw_run.makespan;
     let started = Instant::now();
@@ -418,6 +472,7 @@ fn table4_trial(
                 j,
                 &cfg.train_depths,
                 RobotCount::LeavesMinusOne,
+                cfg.distribution,
             )
             .map(|(_, t)| Problem::from_tree_instance(&t))
         })
@@ -453,6 +508,7 @@ fn table4_trial(
                 i,
                 &cfg.test_depths,
                 RobotCount::LeavesMinusOne,
+                cfg.distribution,
             )?;
             let (psw_run, psw_swaps) = run_psw(cfg, &t)?;
             let problem = Problem::from_tree_instance(&t);
@@ -758,19 +814,55 @@ mod tests {
     #[test]
     fn problems_are_drawn_from_the_seed_and_key() {
         let d = 4..=10;
-        let a = draw_problem(1, "s", 3, &d, RobotCount::LeavesMinusOne).unwrap();
-        let b = draw_problem(1, "s", 3, &d, RobotCount::LeavesMinusOne).unwrap();
+        let a = draw_problem(
+            1,
+            "s",
+            3,
+            &d,
+            RobotCount::LeavesMinusOne,
+            Distribution::Paper,
+        )
+        .unwrap();
+        let b = draw_problem(
+            1,
+            "s",
+            3,
+            &d,
+            RobotCount::LeavesMinusOne,
+            Distribution::Paper,
+        )
+        .unwrap();
         assert_eq!(a.0, b.0);
         assert_eq!(a.1.to_json(), b.1.to_json());
         assert!(d.contains(&a.0));
         let depths: std::collections::BTreeSet<u32> = (0..60)
             .map(|i| {
-                draw_problem(1, "s", i, &d, RobotCount::LeavesMinusOne)
-                    .unwrap()
-                    .0
+                draw_problem(
+                    1,
+                    "s",
+                    i,
+                    &d,
+                    RobotCount::LeavesMinusOne,
+                    Distribution::Paper,
+                )
+                .unwrap()
+                .0
             })
             .collect();
         assert_eq!(depths.len(), 7, "every depth budget 4..=10 is drawn");
+        // The authors' distribution: the same budget draw, their trees and robot counts.
+        let (budget, t) = draw_problem(
+            1,
+            "s",
+            3,
+            &d,
+            RobotCount::LeavesMinusOne,
+            Distribution::Authors,
+        )
+        .unwrap();
+        assert_eq!(budget, a.0);
+        assert!(t.num_robots() >= 2 && t.num_robots() < t.num_leaves());
+        assert_ne!(t.to_json(), a.1.to_json());
     }
 
     #[test]
