@@ -358,7 +358,7 @@ fn scene(inputs: &Inputs, plan: &Path) -> Result<Value, Fail> {
     let mut headings: Vec<Vec<[i64; 2]>> = vec![vec![[0, 0]]; n];
     let mut goal_changes: Vec<Vec<[i64; 3]>> = vec![vec![[0, -1, -1]]; n];
     let mut finished = vec![0usize];
-    let replayed = mrpp_lifelong::problem::replay(problem, &read.plan, |sim| {
+    let mut on_step = |sim: &mrpp_lifelong::sim::Simulation<'_>| {
         let t = i64::from(sim.t);
         for (i, (c, s)) in cells.iter_mut().zip(&sim.states).enumerate() {
             c.push(cell(s.vertex));
@@ -376,7 +376,47 @@ fn scene(inputs: &Inputs, plan: &Path) -> Result<Value, Fail> {
             }
         }
         finished.push(sim.finished);
-    });
+    };
+    // Runs in ticks: each robot's point at the end of every tick, part way along a move in
+    // progress (the cell it stands on changes only when the move completes).
+    let mut points: Vec<Vec<[f64; 2]>> = problem
+        .starts()
+        .iter()
+        .map(|&v| {
+            let (x, y) = map.cell(v);
+            vec![[f64::from(x) + 0.5, f64::from(y) + 0.5]]
+        })
+        .collect();
+    let replayed = match &read.plan.ticks {
+        None => mrpp_lifelong::problem::replay(problem, &read.plan, on_step),
+        Some(record) => {
+            let counter = f64::from(record.agent_counter.max(1));
+            let at = |v: mrpp_core::VertexId| {
+                let (x, y) = map.cell(v);
+                [f64::from(x) + 0.5, f64::from(y) + 0.5]
+            };
+            mrpp_lifelong::execution::replay_tick_states(
+                problem,
+                &read.plan,
+                record,
+                |sim, states| {
+                    on_step(sim);
+                    for (p, s) in points.iter_mut().zip(states) {
+                        let from = at(s.state.vertex);
+                        let to = s
+                            .current
+                            .and_then(|a| mrpp_lifelong::ticks::target(map, s, a))
+                            .map_or(from, at);
+                        let f = f64::from(s.counter) / counter;
+                        p.push([
+                            from[0] + (to[0] - from[0]) * f,
+                            from[1] + (to[1] - from[1]) * f,
+                        ]);
+                    }
+                },
+            )
+        }
+    };
     let (verdict, goals) = match replayed {
         Ok(sim) => {
             let goals: Vec<Value> = (0..n)
@@ -403,6 +443,11 @@ fn scene(inputs: &Inputs, plan: &Path) -> Result<Value, Fail> {
             });
             if rotations {
                 a["headings"] = json!(headings[i]);
+            }
+            if read.plan.ticks.is_some() {
+                // Between cells (the page draws "path" points, not cells).
+                a.as_object_mut().expect("an object").remove("cells");
+                a["path"] = json!(points[i]);
             }
             if let Some(record) = &read.plan.ticks {
                 // Runs in ticks: a red ring while a delay holds the robot (path index t + 1

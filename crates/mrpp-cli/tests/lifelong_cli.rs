@@ -536,6 +536,16 @@ fn a_run_in_ticks_under_delays_is_written_validated_and_bad_settings_are_refused
     assert_eq!(code, Some(0), "{stdout}{err}");
     let html = std::fs::read_to_string(&page).unwrap();
     assert!(html.contains("\"held\":[["), "no delay marked in the page");
+    // Robots are drawn part way along their moves (3 ticks an action: a third of a cell a
+    // tick), not on cells only.
+    assert!(
+        html.contains("\"path\":[["),
+        "no per-tick points in the page"
+    );
+    assert!(
+        html.contains(".8333333333333") || html.contains(".1666666666666"),
+        "no point a third of a cell along a move"
+    );
     // A delayed robot that turns anyway: refused, naming the tick and the robot.
     let mut bad = run.clone();
     let (agent, start) = run["delayIntervals"]

@@ -500,6 +500,21 @@ pub fn replay_ticks<'p>(
     record: &TickRecord,
     mut after: impl FnMut(&Simulation<'p>),
 ) -> std::result::Result<Simulation<'p>, LifelongViolation> {
+    replay_tick_states(problem, trace, record, |sim, _| after(sim))
+}
+
+/// [`replay_ticks`], also handing `after` every robot's state within its action at the end of
+/// each tick (the cell it stands on until a move completes, the action in progress and its ticks
+/// done): what a picture needs to draw robots between cells.
+///
+/// # Errors
+/// As [`replay_ticks`].
+pub fn replay_tick_states<'p>(
+    problem: &'p LifelongProblem,
+    trace: &Trace,
+    record: &TickRecord,
+    mut after: impl FnMut(&Simulation<'p>, &[TickState]),
+) -> std::result::Result<Simulation<'p>, LifelongViolation> {
     let map = problem.map();
     let n = problem.starts().len();
     let ticks = check_shape(problem, trace)?;
@@ -554,7 +569,7 @@ pub fn replay_ticks<'p>(
         std::mem::swap(&mut now, &mut next);
         sim.step(now.iter().map(|s| s.state).collect());
         sim.complete_and_reveal();
-        after(&sim);
+        after(&sim, &now);
     }
     if let Some((index, c)) = changes.next() {
         return Err(LifelongViolation::ScheduleOrder { index, step: c.t });
