@@ -228,7 +228,7 @@ def test_errors_name_the_file_line_and_rule(tmp_path):
         mrpp.solve(problem, "nope")
     with pytest.raises(mrpp.MrppError, match="plans trees problems"):
         mrpp.solve(problem, "psw")
-    with pytest.raises(mrpp.MrppError, match="time-limit must be more than 0"):
+    with pytest.raises(mrpp.MrppError, match="time_limit must be more than 0"):
         mrpp.solve(problem, "hstar", time_limit=0)
     with pytest.raises(mrpp.MrppError, match="seed must be a non-negative integer"):
         mrpp.solve(problem, "hstar", seed=-1)
