@@ -283,6 +283,11 @@ pub(crate) struct GpParamArgs {
     pub(crate) max_depth: Option<usize>,
     #[arg(long)]
     pub(crate) init_depth: Option<usize>,
+    /// What a robot's path becomes on reaching the branch node it set its path to: resume (back
+    /// to its objective at once; default) or hold (kept until If-Robot-At-Branch sees the robot
+    /// there; the authors' code).
+    #[arg(long, value_parser = ["resume", "hold"])]
+    pub(crate) branch_arrival: Option<String>,
 }
 
 impl GpParamArgs {
@@ -305,6 +310,7 @@ impl GpParamArgs {
         put("min_depth", self.min_depth.map(|v| v.to_string()));
         put("max_depth", self.max_depth.map(|v| v.to_string()));
         put("init_depth", self.init_depth.map(|v| v.to_string()));
+        put("branch_arrival", self.branch_arrival.clone());
         out
     }
 
@@ -332,6 +338,10 @@ impl GpParamArgs {
         p.min_depth = self.min_depth.unwrap_or(p.min_depth);
         p.max_depth = self.max_depth.unwrap_or(p.max_depth);
         p.init_depth = self.init_depth.unwrap_or(p.init_depth);
+        if let Some(a) = &self.branch_arrival {
+            p.sim.branch_arrival = mrpp_trees::gp::simulate::BranchArrival::parse(a)
+                .ok_or_else(|| Fail(format!("--branch-arrival {a}: expected resume or hold")))?;
+        }
         p.sim.allow_following = allow_following;
         p.check()?;
         Ok(p)

@@ -25,8 +25,10 @@
 //!   cleared first; with no branch node in the tree the test is still true and nothing is set).
 //! - `if-neighbor-is-surrounded`: some robot adjacent to r_i has every adjacent node occupied.
 //! - `if-robot-at-branch`: r_i stands on the branch node it set its path to. What happens on
-//!   arrival is a choice ([`BranchArrival`]): by default (`Hold`, the authors' code) the path stays
-//!   set to the branch until this test sees the robot there and resets it to the objective.
+//!   arrival is a choice ([`BranchArrival`], `-p branch_arrival`): by default (`Resume`) the path
+//!   goes back to the objective on arrival and this test stays true while the robot stands on
+//!   that branch; with `Hold` (the authors' code) the path stays set to the branch until this
+//!   test sees the robot there and resets it to the objective.
 //! - `if-robot-at-destination`: r_i stands on its goal.
 //! - `if-robot-moving-to-branch`: r_i has set its path to a branch node and is not on it yet.
 //! - `if-neighbor-on-path-is-free`: the next node of r_i's current path exists and is free.
@@ -242,6 +244,11 @@ const PARAMS: &[Param] = &[
         doc: "largest depth of the initial programs",
     },
     Param {
+        name: "branch_arrival",
+        default: "resume",
+        doc: "a robot's path on reaching the branch node it set it to: resume (back to the objective at once) or hold (until If-Robot-At-Branch sees it there; the authors' code)",
+    },
+    Param {
         name: "program",
         default: "",
         doc: "a saved program file (S-expression) to run instead of evolving one",
@@ -292,6 +299,10 @@ pub fn gp_params(p: &Params) -> mrpp_core::Result<GpParams> {
     g.min_depth = p.get("min_depth")?;
     g.max_depth = p.get("max_depth")?;
     g.init_depth = p.get("init_depth")?;
+    let arrival = p.raw("branch_arrival");
+    g.sim.branch_arrival = BranchArrival::parse(arrival).ok_or_else(|| {
+        mrpp_core::Error::Param(format!("branch_arrival={arrival}: expected resume or hold"))
+    })?;
     g.check()?;
     Ok(g)
 }
@@ -415,6 +426,30 @@ mod tests {
     use super::*;
     use crate::generator::{ProblemSpec, RobotCount, generate_problem};
     use crate::test_support::{solve_tree, validate_tree_plan};
+
+    #[test]
+    fn branch_arrival_is_a_named_option() {
+        let resolve = |given: &[(&str, &str)]| {
+            let given: Vec<(String, String)> = given
+                .iter()
+                .map(|(k, v)| (k.to_string(), v.to_string()))
+                .collect();
+            Params::resolve(NAME, PARAMS, &given).and_then(|p| gp_params(&p))
+        };
+        assert_eq!(
+            resolve(&[]).unwrap().sim.branch_arrival,
+            BranchArrival::Resume
+        );
+        assert_eq!(
+            resolve(&[("branch_arrival", "hold")])
+                .unwrap()
+                .sim
+                .branch_arrival,
+            BranchArrival::Hold
+        );
+        let e = resolve(&[("branch_arrival", "wait")]).unwrap_err();
+        assert!(e.to_string().contains("expected resume or hold"), "{e}");
+    }
 
     #[test]
     fn every_plan_passes_the_validator() {

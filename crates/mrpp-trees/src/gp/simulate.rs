@@ -51,6 +51,17 @@ pub enum BranchArrival {
     Resume,
 }
 
+impl BranchArrival {
+    /// `resume` or `hold`.
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "resume" => Some(BranchArrival::Resume),
+            "hold" => Some(BranchArrival::Hold),
+            _ => None,
+        }
+    }
+}
+
 /// Which node Move-To-Free-Neighbor takes (in adjacency order within each tier; when every
 /// adjacent node has been visited, they are all forgotten first).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
