@@ -36,7 +36,8 @@
 //!   against 8 of 10 for SC1 10 and SC1 12 without (`mrpp experiment hstar-table2 --planners
 //!   coevolution`).
 //! - **A\*** uses the Manhattan heuristic (optimal routes), via `pathfinding`'s `astar` with the
-//!   cap counted in the successor closure. The authors use squared Euclidean distance and return
+//!   cap counted in the successor closure. The authors use squared Euclidean distance
+//!   (`-p astar_heuristic=squared-euclidean`; not admissible, so routes may be longer) and return
 //!   a partial route when the cap is hit; a route short of its goal is useless here.
 //! - **Mutation** as in the authors' code: the start point is drawn among the route cells before
 //!   the collision step that lie strictly inside the window around the collision cell (half-size
@@ -101,14 +102,49 @@ pub const NAME: &str = "coevolution";
 pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
     name: NAME,
     about: "Enol2023: A* with private obstacles, then cooperative co-evolution (García et al., ICAE 30:41-52, 2023)",
-    params: &[Param {
-        name: "variant",
-        default: "intended",
-        doc: "intended = fewer collisions is fitter; inverted = the authors' code's inverted collision count",
-    }],
+    params: &[
+        Param {
+            name: "variant",
+            default: "intended",
+            doc: "intended = fewer collisions is fitter; inverted = the authors' code's inverted collision count",
+        },
+        Param {
+            name: "astar_heuristic",
+            default: "manhattan",
+            doc: "stage 1's A* heuristic: manhattan (shortest routes) or squared-euclidean (the authors' code; inadmissible)",
+        },
+        Param {
+            name: "collaborators",
+            default: "1",
+            doc: "q: collaborators drawn from every other robot's subpopulation (1 to 9; the authors' code enumerates every combination)",
+        },
+        Param {
+            name: "unsettle_after",
+            default: "3",
+            doc: "ours: generations without fewer collisions after which a settled robot that blocks others evolves again (0 = never, as the paper)",
+        },
+    ],
     build: |p| {
+        let collaborators: usize = p.get("collaborators")?;
+        if !(1..=9).contains(&collaborators) {
+            return Err(mrpp_core::Error::Param(format!(
+                "collaborators={collaborators}: expected 1 to 9"
+            )));
+        }
+        let unsettle_after: usize = p.get("unsettle_after")?;
+        if unsettle_after > 1_000_000 {
+            return Err(mrpp_core::Error::Param(format!(
+                "unsettle_after={unsettle_after}: expected 0 to 1000000 generations"
+            )));
+        }
         Ok(Box::new(Coevolution {
             inverted_fitness: p.choice("variant", &["intended", "inverted"])? == 1,
+            heuristic: match p.choice("astar_heuristic", &["manhattan", "squared-euclidean"])? {
+                0 => AstarHeuristic::Manhattan,
+                _ => AstarHeuristic::SquaredEuclidean,
+            },
+            collaborators,
+            unsettle_after,
             ..Coevolution::default()
         }))
     },
@@ -152,6 +188,19 @@ pub struct Coevolution {
     /// is unsettled, so that it can evolve too. Stage 1 settles robots for good, and a settled
     /// robot that blocks a corridor otherwise dooms the run.
     pub unsettle_after: usize,
+    /// Stage 1's A* heuristic: Manhattan (shortest routes; ours) or the authors' squared
+    /// Euclidean distance (inadmissible: routes may be longer).
+    pub heuristic: AstarHeuristic,
+}
+
+/// Stage 1's A* heuristic (module doc).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum AstarHeuristic {
+    /// Manhattan distance: admissible on a 4-neighbour grid, so routes are shortest.
+    #[default]
+    Manhattan,
+    /// Squared Euclidean distance, as the authors' code: not admissible.
+    SquaredEuclidean,
 }
 
 impl Default for Coevolution {
@@ -172,6 +221,7 @@ impl Default for Coevolution {
             stop_depth: 3,
             stop_node_cap: 20_000,
             unsettle_after: 3,
+            heuristic: AstarHeuristic::Manhattan,
         }
     }
 }
@@ -342,8 +392,19 @@ fn private_astar(
     goal: VertexId,
     obstacles: &FxHashSet<VertexId>,
     cap: usize,
+    heuristic: AstarHeuristic,
 ) -> Option<Vec<VertexId>> {
     let mut expanded = 0usize;
+    let h = |v: VertexId| match heuristic {
+        AstarHeuristic::Manhattan => g.manhattan(v, goal),
+        AstarHeuristic::SquaredEuclidean => match (g.coord(v), g.coord(goal)) {
+            (Some((ax, ay)), Some((bx, by))) => {
+                let (dx, dy) = (ax.abs_diff(bx), ay.abs_diff(by));
+                dx.saturating_mul(dx).saturating_add(dy.saturating_mul(dy))
+            }
+            _ => 0,
+        },
+    };
     astar(
         &start,
         |&v| {
@@ -355,7 +416,7 @@ fn private_astar(
                 .map(|&w| (w, 1u32))
                 .collect::<Vec<_>>()
         },
-        |&v| g.manhattan(v, goal),
+        |&v| h(v),
         |&v| v == goal,
     )
     .map(|(path, _)| path)
@@ -393,7 +454,14 @@ pub fn astar_with_private_obstacles(
         if deadline.expired() {
             return Err(Unsolved::TimeLimit);
         }
-        match private_astar(g, inst.starts[i], inst.goals[i], private, usize::MAX) {
+        match private_astar(
+            g,
+            inst.starts[i],
+            inst.goals[i],
+            private,
+            usize::MAX,
+            cfg.heuristic,
+        ) {
             Some(r) => routes.push(r),
             None => {
                 return Err(Unsolved::GaveUp(format!(
@@ -437,6 +505,7 @@ pub fn astar_with_private_obstacles(
                     inst.goals[a],
                     &obstacles[a],
                     cfg.astar_expansion_cap,
+                    cfg.heuristic,
                 ) {
                     routes[a] = r.clone();
                     history[a].push(r);

@@ -537,13 +537,15 @@ fn table2_page(t: &Table2, rows: &[&RunRow], command: &str, wall: f64) -> String
     s.push_str(
         "\nLower bounds (each robot's shortest distance, others ignored); Enol2023's stage-1 routes \
          (A* with private obstacles, before co-evolution: Max / Sum and the number of robot pairs still \
-         in conflict); mean runtime of our runs:\n\n",
+         in conflict), and the authors' initial A* routes (their squared Euclidean heuristic, each robot \
+         alone: what the paper's Enol2023 cells match); \
+         mean runtime of our runs:\n\n",
     );
-    s.push_str("| SC | robots | LB Max / Sum | Enol2023 stage 1 |");
+    s.push_str("| SC | robots | LB Max / Sum | Enol2023 stage 1 | authors' initial A* |");
     for m in &cfg.methods {
         s.push_str(&format!(" {} ms |", m.column));
     }
-    s.push_str("\n|---|---|---|---|");
+    s.push_str("\n|---|---|---|---|---|");
     for _ in &cfg.methods {
         s.push_str("---|");
     }
@@ -557,10 +559,11 @@ fn table2_page(t: &Table2, rows: &[&RunRow], command: &str, wall: f64) -> String
         .map(|(sum, max)| format!("{max} / {sum}"))
         .unwrap_or_else(|i| format!("agent {i} cannot reach its goal"));
         s.push_str(&format!(
-            "| {} | {} | {lb} | {} |",
+            "| {} | {} | {lb} | {} | {} |",
             li.info.scenario,
             li.info.label,
-            stage1(li)
+            stage1(li, false),
+            stage1(li, true)
         ));
         for m in &cfg.methods {
             let times: Vec<f64> = rows
@@ -581,15 +584,24 @@ fn table2_page(t: &Table2, rows: &[&RunRow], command: &str, wall: f64) -> String
     s
 }
 
-/// Enol2023's stage 1 alone: the A* routes with private obstacles, as Max / Sum (arrival steps) and
-/// how many robot pairs still conflict.
-fn stage1(li: &LoadedInstance) -> String {
+/// Enol2023's stage 1 alone: the A* routes with private obstacles, as Max / Sum (arrival steps)
+/// and how many robot pairs still conflict; with `authors_initial`, the authors' first A* routes
+/// instead (squared Euclidean heuristic, each robot alone, no round of private obstacles).
+fn stage1(li: &LoadedInstance, authors_initial: bool) -> String {
     use mrpp_grid::coevolution::{Coevolution, astar_with_private_obstacles, route_conflict};
     let g = li.map.graph();
     let Ok(stage) = astar_with_private_obstacles(
         g,
         li.problem.instance(),
-        &Coevolution::default(),
+        &if authors_initial {
+            Coevolution {
+                heuristic: mrpp_grid::coevolution::AstarHeuristic::SquaredEuclidean,
+                astar_rounds: 0,
+                ..Coevolution::default()
+            }
+        } else {
+            Coevolution::default()
+        },
         Deadline::none(),
     ) else {
         return String::new();
@@ -673,4 +685,41 @@ fn fig5(t: &Table2, rows: &[&RunRow]) -> Result<String> {
         &panels,
     )
     .map_err(Error::Internal)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// The paper's Enol2023 cells for Scenario 3 are exactly the Max / Sum of the authors' initial
+    /// A* routes (squared Euclidean heuristic, each robot alone), which still conflict: the
+    /// published figures are routes before any conflict resolution (issue 32 item 1).
+    #[test]
+    fn the_papers_enol2023_scenario_3_cells_are_the_authors_initial_astar_routes() {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../data/hstar-paper");
+        let instances = load_table1(&root, Scenario2Map::OpenRooms).unwrap();
+        let paper = load_paper_table2(&root.join("table2-paper.csv")).unwrap();
+        let mut checked = 0;
+        for li in instances.iter().filter(|li| li.info.scenario == 3) {
+            let cell = paper
+                .iter()
+                .find(|c| {
+                    c.scenario == 3 && c.robots == li.info.robots && c.column == "Enol2023"
+                })
+                .and_then(|c| c.max_sum)
+                .unwrap();
+            let ours = stage1(li, true);
+            let want = format!("{} / {},", cell.0, cell.1);
+            assert!(ours.starts_with(&want), "SC3 {}: {ours} vs {want}", li.info.robots);
+            let pairs: usize = ours
+                .split(", ")
+                .nth(1)
+                .and_then(|p| p.split(' ').next())
+                .and_then(|p| p.parse().ok())
+                .unwrap();
+            assert!(pairs > 0, "SC3 {}: the routes conflict", li.info.robots);
+            checked += 1;
+        }
+        assert_eq!(checked, 5);
+    }
 }
