@@ -14,6 +14,12 @@
 //! scen = "../../data/movingai/random-32-32-20-random-1.scen"
 //! agents = [10, 20, 50]   # the first N agents of the scenario; empty = all
 //!
+//! [[instances]]           # one instance per scenario k = 1..=25 ({k} in `scen`)
+//! map = "../../data/movingai/den520d.map"
+//! scen = "../../data/movingai/den520d-random-{k}.scen"
+//! scens = "1..=25"
+//! agents = "50..=1000 step 50"   # a range (and/or numbers: "50..=300 step 50, 333")
+//!
 //! [[planners]]
 //! name = "whca"
 //! params = { window = "8" }
@@ -152,9 +158,64 @@ fn ten() -> f64 {
 pub struct InstanceSpec {
     pub map: PathBuf,
     pub scen: PathBuf,
-    /// The first N agents of the scenario, for each N; empty = all of them.
-    #[serde(default)]
+    /// The first N agents of the scenario, for each N; empty = all of them. In TOML a list of
+    /// numbers or a string of numbers and ranges (`"50..=1000 step 50, 1024"`).
+    #[serde(default, deserialize_with = "agent_counts")]
     pub agents: Vec<usize>,
+    /// Scenario numbers (`"1..=25"`, same syntax as `agents`): the instance stands for one per
+    /// number `k`, with `{k}` in `scen` replaced by it ([`SweepConfig::load`] expands them).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scens: Option<String>,
+}
+
+/// Agent counts: a list of numbers, or a string of numbers and ranges ([`parse_counts`]).
+fn agent_counts<'de, D: serde::Deserializer<'de>>(
+    d: D,
+) -> std::result::Result<Vec<usize>, D::Error> {
+    #[derive(Deserialize)]
+    #[serde(untagged)]
+    enum Counts {
+        List(Vec<usize>),
+        Text(String),
+    }
+    match Counts::deserialize(d)? {
+        Counts::List(v) => Ok(v),
+        Counts::Text(t) => parse_counts(&t).map_err(serde::de::Error::custom),
+    }
+}
+
+/// Numbers and ranges, comma-separated: `7`, `A..=B` (every number from A to B) and
+/// `A..=B step S` (A, A+S, ... up to B), e.g. `"50..=300 step 50, 333"`.
+///
+/// # Errors
+/// A message naming the part that is not a number or range (or a range that is empty, or a
+/// zero step).
+pub fn parse_counts(text: &str) -> std::result::Result<Vec<usize>, String> {
+    let number = |s: &str| {
+        s.trim()
+            .parse::<usize>()
+            .map_err(|_| format!("`{}` is not a whole number (in `{text}`)", s.trim()))
+    };
+    let mut out = Vec::new();
+    for part in text.split(',') {
+        let part = part.trim();
+        let Some((from, rest)) = part.split_once("..=") else {
+            out.push(number(part)?);
+            continue;
+        };
+        let (to, step) = match rest.split_once("step") {
+            Some((to, step)) => (number(to)?, number(step)?),
+            None => (number(rest)?, 1),
+        };
+        let from = number(from)?;
+        if step == 0 || from > to || (to - from) / step > 1_000_000 {
+            return Err(format!(
+                "`{part}`: a range is `A..=B` or `A..=B step S` with A <= B and S >= 1 (in `{text}`)"
+            ));
+        }
+        out.extend((from..=to).step_by(step));
+    }
+    Ok(out)
 }
 
 /// A registered planner with parameters.
@@ -218,7 +279,53 @@ impl SweepConfig {
             i.map = dir.join(&i.map);
             i.scen = dir.join(&i.scen);
         }
+        cfg.expand_scens().map_err(|e| Error::parse(path, 1, e))?;
         Ok(cfg)
+    }
+
+    /// Replaces every instance with `scens` by one instance per scenario number (`{k}` in its
+    /// `scen` replaced by the number).
+    ///
+    /// # Errors
+    /// `scens` does not parse, or `scen` has no `{k}`.
+    pub fn expand_scens(&mut self) -> std::result::Result<(), String> {
+        let mut out = Vec::with_capacity(self.instances.len());
+        for spec in std::mem::take(&mut self.instances) {
+            let Some(scens) = &spec.scens else {
+                out.push(spec);
+                continue;
+            };
+            let pattern = spec.scen.to_string_lossy().into_owned();
+            if !pattern.contains("{k}") {
+                return Err(format!(
+                    "instance with scens = \"{scens}\": its scen `{pattern}` needs `{{k}}` where the number goes"
+                ));
+            }
+            for k in parse_counts(scens)? {
+                out.push(InstanceSpec {
+                    scen: PathBuf::from(pattern.replace("{k}", &k.to_string())),
+                    scens: None,
+                    ..spec.clone()
+                });
+            }
+        }
+        self.instances = out;
+        Ok(())
+    }
+
+    /// The number of jobs (instances x agent counts x solvers x runs), counted without reading
+    /// any map or scenario; `None` when an instance has no agent counts (all of its scenario's
+    /// agents: the count needs the file).
+    pub fn job_count(&self) -> Option<usize> {
+        let solvers = self.planners.len() + self.peers.len();
+        let mut instances = 0;
+        for spec in &self.instances {
+            if spec.agents.is_empty() {
+                return None;
+            }
+            instances += spec.agents.len();
+        }
+        Some(instances * solvers * self.runs)
     }
 }
 
@@ -816,5 +923,50 @@ impl GridSweep {
             }
             _ => record("invalid", None, runtime_ms),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn counts_and_ranges() {
+        assert_eq!(
+            parse_counts("50..=200 step 50, 333").unwrap(),
+            [50, 100, 150, 200, 333]
+        );
+        assert_eq!(parse_counts("1..=3").unwrap(), [1, 2, 3]);
+        assert_eq!(parse_counts(" 7 ").unwrap(), [7]);
+        assert_eq!(parse_counts("50..=1000 step 50").unwrap().len(), 20);
+        for bad in ["", "x", "5..=1", "1..=5 step 0", "1..=x", "1..=10 step"] {
+            assert!(parse_counts(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn scens_expand_and_jobs_count_without_files() {
+        let dir = std::env::temp_dir().join(format!("mrpp-sweep-scens-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("c.toml");
+        std::fs::write(
+            &path,
+            "runs = 2\n[[instances]]\nmap = \"m.map\"\nscen = \"m-random-{k}.scen\"\nscens = \"1..=3\"\nagents = \"10..=30 step 10\"\n[[planners]]\nname = \"lacam\"\n",
+        )
+        .unwrap();
+        let cfg = SweepConfig::load(&path).unwrap();
+        assert_eq!(cfg.instances.len(), 3);
+        assert_eq!(cfg.instances[2].scen, dir.join("m-random-3.scen"));
+        assert_eq!(cfg.instances[0].agents, [10, 20, 30]);
+        assert_eq!(cfg.job_count(), Some(3 * 3 * 2));
+        // Without `{k}` the scenario numbers have nowhere to go.
+        std::fs::write(
+            &path,
+            "[[instances]]\nmap = \"m.map\"\nscen = \"m.scen\"\nscens = \"1..=3\"\n",
+        )
+        .unwrap();
+        let err = SweepConfig::load(&path).unwrap_err().to_string();
+        assert!(err.contains("{k}"), "{err}");
+        let _ = std::fs::remove_dir_all(&dir);
     }
 }

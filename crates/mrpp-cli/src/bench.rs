@@ -74,6 +74,10 @@ pub(crate) struct RunArgs {
     /// them competing for cores.
     #[arg(allow_negative_numbers = true, value_parser = crate::output::parse_count, long)]
     jobs: Option<usize>,
+    /// Count the jobs (all, and --shard's) from the config alone and say which map and scenario
+    /// files are missing; reads no map or scenario and runs nothing.
+    #[arg(long)]
+    dry_run: bool,
     /// Output folder. A folder holding an interrupted run of the same sweep resumes it.
     #[arg(short = 'o', long, default_value = "out/bench")]
     out: PathBuf,
@@ -98,6 +102,7 @@ impl RunArgs {
                         map: map.clone(),
                         scen: scen.clone(),
                         agents: self.agents.clone(),
+                        scens: None,
                     }],
                     planners: self
                         .planners
@@ -135,8 +140,49 @@ pub(crate) fn run(args: RunArgs, merge: Option<Mode>) -> Result<u8, Fail> {
                 .flat_map(|i| [i.map.as_path(), i.scen.as_path()]),
         ),
     );
+    if args.dry_run && merge.is_none() {
+        return dry_run(&cfg, args.shard.unwrap_or(Shard::ALL));
+    }
     let seed = cfg.seed;
     let sweep = GridSweep::new(cfg)?;
     let mode = merge.unwrap_or(Mode::run(args.shard, args.out));
     drive_on(&sweep, &mode, seed, "runs", args.jobs)
+}
+
+/// `bench run --dry-run`: the number of jobs, the shard's, and the missing files.
+fn dry_run(cfg: &SweepConfig, shard: Shard) -> Result<u8, Fail> {
+    let Some(jobs) = cfg.job_count() else {
+        return Err(Fail(
+            "--dry-run counts jobs without reading scenarios, so every instance needs its agent \
+             counts (`agents = [...]` or \"50..=1000 step 50\")"
+                .into(),
+        ));
+    };
+    let owned = (0..jobs).filter(|&j| shard.owns(j)).count();
+    let mut files: Vec<&std::path::Path> = cfg
+        .instances
+        .iter()
+        .flat_map(|i| [i.map.as_path(), i.scen.as_path()])
+        .collect();
+    files.sort();
+    files.dedup();
+    let missing: Vec<_> = files.iter().filter(|f| !f.is_file()).collect();
+    crate::output::out!(
+        "{jobs} jobs ({} instance specs, {} solvers, {} runs); shard {shard}: {owned} jobs",
+        cfg.instances.len(),
+        cfg.planners.len() + cfg.peers.len(),
+        cfg.runs
+    );
+    if let Some(first) = missing.first() {
+        crate::output::out!(
+            "{} of the {} map and scenario files are missing, e.g. {} (mrpp data get movingai \
+             fetches the MovingAI benchmark)",
+            missing.len(),
+            files.len(),
+            first.display()
+        );
+    } else {
+        crate::output::out!("all {} map and scenario files are present", files.len());
+    }
+    Ok(0)
 }

@@ -15,6 +15,7 @@ use clap::{Parser, Subcommand};
 pub mod api;
 mod bench;
 mod continuous_family;
+mod data;
 mod embedded;
 mod execute_cmd;
 mod experiment;
@@ -140,6 +141,13 @@ enum Command {
         /// bash, zsh, fish, elvish or powershell.
         shell: clap_complete::Shell,
     },
+    /// Benchmark data: `data get movingai` downloads (or unpacks with --from) the MovingAI MAPF
+    /// benchmark and checks every file against the checksums in the repository.
+    #[command(subcommand)]
+    #[command(
+        after_help = "Examples (from the repository's root):\n  mrpp data get movingai --into data/movingai"
+    )]
+    Data(data::Data),
     /// Problem files from seeds: random grid maps and scenarios, polygon worlds, formation files.
     #[command(subcommand)]
     #[command(
@@ -336,6 +344,7 @@ fn run(command: Command) -> Result<u8, Fail> {
         Command::Bench(bench::Bench::Merge { out, parts }) => merge(out, parts),
         Command::Trees(t) => tree_family::run(t),
         Command::Gen(g) => gen_cmd::run(g),
+        Command::Data(data::Data::Get(a)) => data::run(a),
         Command::Completions { shell } => {
             use clap::CommandFactory as _;
             use std::io::Write as _;

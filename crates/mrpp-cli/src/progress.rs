@@ -25,7 +25,8 @@ pub(crate) fn set_mode(mode: Mode) {
     *MODE.lock().unwrap_or_else(|e| e.into_inner()) = mode;
 }
 
-fn mode() -> Mode {
+/// The mode [`set_mode`] set.
+pub(crate) fn mode() -> Mode {
     *MODE.lock().unwrap_or_else(|e| e.into_inner())
 }
 

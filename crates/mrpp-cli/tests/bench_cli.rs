@@ -349,3 +349,112 @@ fn a_broken_peer_command_warns_is_recorded_and_stops_the_sweep() {
     assert!(progress.contains("exit 3: broken pipe"), "{progress}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The 13,900-instance MovingAI protocol (bench/configs/movingai-full.toml) counts its jobs
+/// without the data (`--dry-run`), and its shards cover every job exactly once; with a map
+/// missing, a real run is a one-line error naming the file, not a panic.
+#[test]
+fn movingai_full_counts_13900_jobs_without_the_data() {
+    let config = "bench/configs/movingai-full.toml";
+    let (out, _) = mrpp(&["bench", "run", "--config", config, "--dry-run"], 0);
+    assert!(out.contains("13900 jobs (825 instance specs"), "{out}");
+    let mut total = 0;
+    for i in 1..=7 {
+        let shard = format!("{i}/7");
+        let (out, _) = mrpp(
+            &[
+                "bench",
+                "run",
+                "--config",
+                config,
+                "--dry-run",
+                "--shard",
+                &shard,
+            ],
+            0,
+        );
+        let owned: usize = out
+            .split(&format!("shard {shard}: "))
+            .nth(1)
+            .and_then(|r| r.split_whitespace().next())
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("{out}"));
+        assert!((1985..=1986).contains(&owned), "{out}");
+        total += owned;
+    }
+    assert_eq!(total, 13900);
+
+    // A config naming files that are not there: --dry-run says so, a run fails naming one.
+    let dir = tmp("full-missing");
+    let cfg = dir.join("missing.toml");
+    std::fs::write(
+        &cfg,
+        "[[instances]]\nmap = \"nowhere.map\"\nscen = \"nowhere-random-{k}.scen\"\nscens = \"1..=2\"\nagents = \"10..=20 step 10\"\n[[planners]]\nname = \"lacam\"\n",
+    )
+    .unwrap();
+    let (out, _) = mrpp(&["bench", "run", "--config", s(&cfg), "--dry-run"], 0);
+    assert!(
+        out.contains("4 jobs") && out.contains("3 of the 3"),
+        "{out}"
+    );
+    let (_, err) = mrpp(
+        &[
+            "bench",
+            "run",
+            "--config",
+            s(&cfg),
+            "--out",
+            s(&dir.join("o")),
+        ],
+        1,
+    );
+    assert!(
+        err.contains("nowhere.map") && !err.contains("panicked"),
+        "{err}"
+    );
+    assert_eq!(err.lines().count(), 1, "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A config with scenario numbers (`scens`) and an agent range runs and its shards merge to the
+/// whole, on the bundled files.
+#[test]
+fn scens_and_agent_ranges_shard_and_merge() {
+    let dir = tmp("scens");
+    let cfg = dir.join("c.toml");
+    let data = root().join("data/movingai");
+    std::fs::write(
+        &cfg,
+        format!(
+            "time_limit = 5.0\n[[instances]]\nmap = \"{0}/empty-8-8.map\"\nscen = \"{0}/empty-8-8-random-{{k}}.scen\"\nscens = \"1..=2\"\nagents = \"4..=8 step 4\"\n[[planners]]\nname = \"lacam\"\n",
+            data.display()
+        ),
+    )
+    .unwrap();
+    let (parts, whole, merged) = (dir.join("parts"), dir.join("whole"), dir.join("merged"));
+    mrpp(
+        &["bench", "run", "--config", s(&cfg), "--out", s(&whole)],
+        0,
+    );
+    for shard in ["1/3", "2/3", "3/3"] {
+        mrpp(
+            &[
+                "bench",
+                "run",
+                "--config",
+                s(&cfg),
+                "--shard",
+                shard,
+                "--out",
+                s(&parts),
+            ],
+            0,
+        );
+    }
+    mrpp(&["bench", "merge", "--out", s(&merged), s(&parts)], 0);
+    let records = without_timing(&merged.join("records.csv"));
+    assert_eq!(without_timing(&whole.join("records.csv")), records);
+    assert_eq!(records.lines().count(), 1 + 2 * 2, "{records}");
+    assert!(records.contains("empty-8-8-random-2"), "{records}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
