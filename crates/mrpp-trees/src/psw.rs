@@ -1350,7 +1350,7 @@ mod tests {
     }
 
     /// The release check at the paper's sizes (b = 4, depth budgets 4–10, |R| = #leaves − 1):
-    /// `cargo test --release -p mrpp --lib trees::psw::tests::paper_sizes -- --ignored --nocapture`
+    /// `cargo test --release -p mrpp-trees --lib psw::tests::paper_sizes -- --ignored --nocapture`
     /// (with `PSW_INCLUSIVE=1` also the inclusive reading of `random(0, b)`: about 20 minutes).
     #[test]
     #[ignore]

@@ -703,14 +703,16 @@ mod tests {
         for li in instances.iter().filter(|li| li.info.scenario == 3) {
             let cell = paper
                 .iter()
-                .find(|c| {
-                    c.scenario == 3 && c.robots == li.info.robots && c.column == "Enol2023"
-                })
+                .find(|c| c.scenario == 3 && c.robots == li.info.robots && c.column == "Enol2023")
                 .and_then(|c| c.max_sum)
                 .unwrap();
             let ours = stage1(li, true);
             let want = format!("{} / {},", cell.0, cell.1);
-            assert!(ours.starts_with(&want), "SC3 {}: {ours} vs {want}", li.info.robots);
+            assert!(
+                ours.starts_with(&want),
+                "SC3 {}: {ours} vs {want}",
+                li.info.robots
+            );
             let pairs: usize = ours
                 .split(", ")
                 .nth(1)
