@@ -282,6 +282,16 @@ fn tracker_plan(
     };
     let inst = mrpp_grid::scen::load_agents(scen, map, Some(row.agents))?;
     let plan = row.to_plan(map, &inst.starts, plan_path)?;
+    let lengths: u64 = row.plan.iter().map(|m| m.len() as u64).sum();
+    if lengths != row.solution_cost {
+        return Err(Fail(format!(
+            "{}:{}: the row claims solution_cost={} but its move strings hold {lengths} moves \
+             (each agent's string runs to its last arrival at its goal)",
+            plan_path.display(),
+            row.line,
+            row.solution_cost
+        )));
+    }
     let problem = mrpp_grid::problem_on(map, inst);
     if let Ok(m) = problem.validate(&plan)
         && m.sum_of_costs != row.solution_cost
