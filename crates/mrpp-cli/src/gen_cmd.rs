@@ -499,3 +499,114 @@ pub(crate) fn convert(
     );
     Ok(0)
 }
+
+/// The plan formats `mrpp convert --to` writes.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PlanFormat {
+    /// mrpp's plan envelope (JSON, `[x, y]` cells).
+    Envelope,
+    /// LaCAM/PIBT text (lacam3's keys).
+    Lacam,
+    /// The MAPF Tracker's result CSV (one row; `mrpp_grid::io::tracker`).
+    Tracker,
+    /// PlanViz's LoRR JSON (2024 layout, `MAPF` model; `mrpp_lifelong::lorr_output`).
+    Planviz,
+}
+
+/// `mrpp convert --plan`: the grid plan `plan` (any format `mrpp validate` reads on grids,
+/// detected from the content) for `map` and `scen` (first `agents`), validated, written to `out`
+/// as `to`. `out` may not be an input; it is written whole (temp file and rename) or not at all.
+pub(crate) fn convert_plan(
+    map: &std::path::Path,
+    scen: Option<&std::path::Path>,
+    agents: Option<usize>,
+    plan: &std::path::Path,
+    to: PlanFormat,
+    out: &std::path::Path,
+) -> Result<u8, Fail> {
+    use mrpp_core::Problem as _;
+    let scen = scen.ok_or_else(|| Fail("convert --plan needs --scen".into()))?;
+    guard([map, scen, plan], &[out])?;
+    let inputs = crate::family::Inputs {
+        map: Some(map.to_path_buf()),
+        scen: Some(scen.to_path_buf()),
+        agents,
+        ..Default::default()
+    };
+    let read = crate::grid_family::read_plan(&inputs, plan)?;
+    let grid = mrpp_grid::GridMap::load(map)?;
+    let problem = read.problem;
+    let mut paths = read.plan;
+    paths.trim();
+    let metrics = problem
+        .validate(&paths)
+        .map_err(|v| Fail(format!("{}: not a valid plan: {v}", plan.display())))?;
+    let actual = serde_json::Value::Object(crate::output::metrics_object(&metrics));
+    if let Some((k, claim, real)) = mrpp_core::envelope::disputed(&read.claims, &actual).first() {
+        return Err(Fail(format!(
+            "{}: plan claims {k} {claim} but its paths give {real}",
+            plan.display()
+        )));
+    }
+    let inst = problem.instance();
+    let map_file = file_name(map);
+    let text = match to {
+        PlanFormat::Envelope => {
+            let info = mrpp_core::mapf::plan_file::RunInfo {
+                planner: "unknown".into(),
+                ..Default::default()
+            };
+            let solved = Ok(mrpp_core::Solved {
+                plan: paths,
+                metrics,
+                runtime: std::time::Duration::ZERO,
+            });
+            let mut env =
+                mrpp_grid::io::plan_json::grid_envelope(&grid, &map_file, &problem, info, &solved);
+            env.extra
+                .insert("converted_from".into(), file_name(plan).into());
+            env.to_json()
+        }
+        PlanFormat::Lacam => mrpp_grid::io::lacam::write_lacam(
+            &grid,
+            &map_file,
+            "unknown",
+            inst,
+            Some((&paths, metrics)),
+            0.0,
+            0,
+        ),
+        PlanFormat::Tracker => {
+            let row = mrpp_grid::io::tracker::TrackerRow::of_plan(
+                &grid,
+                &map_file,
+                &file_name(scen),
+                inst,
+                &paths,
+            )
+            .map_err(|e| Fail(format!("{}: {e}", plan.display())))?;
+            mrpp_grid::io::tracker::write_tracker(&[row])
+        }
+        PlanFormat::Planviz => {
+            let json = mrpp_lifelong::lorr_output::one_shot_to_json(&grid, inst, &paths)
+                .map_err(|e| Fail(format!("{}: {e}", plan.display())))?;
+            serde_json::to_string(&json).map_err(|e| Fail(e.to_string()))? + "\n"
+        }
+    };
+    write_atomic(out, text)?;
+    say!(
+        "mrpp {} | convert | plan {} ({}) | agents {} | sum_of_costs {} | makespan {} -> {} ({to:?})",
+        env!("CARGO_PKG_VERSION"),
+        file_name(plan),
+        if read.about.is_empty() {
+            "LaCAM text"
+        } else {
+            &read.about
+        },
+        inst.num_agents(),
+        metrics.sum_of_costs,
+        metrics.makespan,
+        out.display()
+    );
+    Ok(0)
+}

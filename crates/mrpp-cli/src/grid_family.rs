@@ -13,6 +13,8 @@ use mrpp_grid::GridMap;
 use mrpp_grid::io::lacam::{parse_lacam_with_claims, write_lacam};
 use mrpp_grid::io::plan_json::{grid_envelope, read_grid_plan, read_grid_plan_to_draw};
 use mrpp_grid::io::render::render_svg;
+use mrpp_grid::io::tracker;
+use mrpp_lifelong::lorr_output::one_shot_from_json;
 
 use crate::family::{Def, Format, Inputs, Loaded, Outcome, ReadPlan};
 use crate::output::{Fail, file_name, out};
@@ -140,9 +142,11 @@ fn write_plan(
     }
 }
 
-/// Reads a plan file in either format (JSON starts with `{`), checked against `--scen` (or the
-/// `--lorr` problem) when given.
-fn read_plan(inputs: &Inputs, plan_path: &Path) -> Result<ReadPlan<MapfProblem>, Fail> {
+/// Reads a plan file in any grid format, detected from the content: PlanViz's LoRR JSON (JSON
+/// with `actionModel`), the plan envelope (other JSON), a MAPF Tracker CSV (a header naming
+/// `solution_cost`; needs `--scen`) or LaCAM text; checked against `--scen` (or the `--lorr`
+/// problem) when given.
+pub(crate) fn read_plan(inputs: &Inputs, plan_path: &Path) -> Result<ReadPlan<MapfProblem>, Fail> {
     read_plan_with(inputs, plan_path, false)
 }
 
@@ -155,7 +159,19 @@ fn read_plan_with(
 ) -> Result<ReadPlan<MapfProblem>, Fail> {
     let (map, _) = map_of(inputs)?;
     let text = mrpp_core::error::read_file(plan_path)?;
-    let (problem, plan, claims, about) = if text.trim_start().starts_with('{') {
+    let (problem, plan, claims, about) = if text
+        .trim_start_matches('\u{feff}')
+        .trim_start()
+        .starts_with('{')
+        && text.contains("\"actionModel\"")
+    {
+        let (inst, plan) = one_shot_from_json(&map, &text, plan_path)?;
+        let problem = mrpp_grid::problem_on(&map, inst);
+        (problem, plan, Map::new(), "PlanViz (LoRR) JSON".into())
+    } else if tracker::is_tracker(&text) {
+        let (problem, plan) = tracker_plan(inputs, &map, &text, plan_path)?;
+        (problem, plan, Map::new(), "MAPF Tracker CSV".into())
+    } else if text.trim_start().starts_with('{') {
         let (problem, plan, env) = if to_draw {
             read_grid_plan_to_draw(&map, &text, plan_path)?
         } else {
@@ -213,6 +229,82 @@ fn read_plan_with(
         claims,
         about,
     })
+}
+
+/// The instance and plan of a MAPF Tracker CSV (`text`, from `plan_path`): its row for
+/// `--agents` (or its only row; among rows of that agent count, the one whose
+/// `{map_name}-{scen_type}-{type_id}` is the `--scen` file's name), the scenario's first
+/// `agents` agents, the moves replayed from their starts. A valid plan must have the row's
+/// `solution_cost` as its sum of costs.
+fn tracker_plan(
+    inputs: &Inputs,
+    map: &GridMap,
+    text: &str,
+    plan_path: &Path,
+) -> Result<(MapfProblem, mrpp_core::mapf::plan::Plan), Fail> {
+    let scen = inputs.scen.as_deref().ok_or_else(|| {
+        Fail(format!(
+            "{}: a MAPF Tracker CSV holds moves only: give --scen (the scenario it was solved on)",
+            plan_path.display()
+        ))
+    })?;
+    let rows = tracker::parse_tracker(text, plan_path)?;
+    let mut picked: Vec<&tracker::TrackerRow> = rows
+        .iter()
+        .filter(|r| inputs.agents.is_none_or(|n| r.agents == n))
+        .collect();
+    if picked.len() > 1 {
+        let stem = file_name(scen);
+        let stem = stem.strip_suffix(".scen").unwrap_or(&stem).to_string();
+        picked.retain(|r| format!("{}-{}-{}", r.map_name, r.scen_type, r.type_id) == stem);
+    }
+    let row = match picked.as_slice() {
+        [row] => *row,
+        [] => {
+            return Err(Fail(format!(
+                "{}: no row for {} agents{}",
+                plan_path.display(),
+                inputs.agents.map_or("any".into(), |n| n.to_string()),
+                if rows.len() > 1 {
+                    format!(" and scenario {}", file_name(scen))
+                } else {
+                    String::new()
+                }
+            )));
+        }
+        _ => {
+            return Err(Fail(format!(
+                "{}: {} rows fit: choose one with --agents N",
+                plan_path.display(),
+                picked.len()
+            )));
+        }
+    };
+    let inst = mrpp_grid::scen::load_agents(scen, map, Some(row.agents))?;
+    let plan = row.to_plan(map, &inst.starts, plan_path)?;
+    let lengths: u64 = row.plan.iter().map(|m| m.len() as u64).sum();
+    if lengths != row.solution_cost {
+        return Err(Fail(format!(
+            "{}:{}: the row claims solution_cost={} but its move strings hold {lengths} moves \
+             (each agent's string runs to its last arrival at its goal)",
+            plan_path.display(),
+            row.line,
+            row.solution_cost
+        )));
+    }
+    let problem = mrpp_grid::problem_on(map, inst);
+    if let Ok(m) = problem.validate(&plan)
+        && m.sum_of_costs != row.solution_cost
+    {
+        return Err(Fail(format!(
+            "{}:{}: the row claims solution_cost={} but its plan gives {}",
+            plan_path.display(),
+            row.line,
+            row.solution_cost,
+            m.sum_of_costs
+        )));
+    }
+    Ok((problem, plan))
 }
 
 /// The map and a plan the grid validator accepts (for `mrpp execute`).

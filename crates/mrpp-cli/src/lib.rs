@@ -114,24 +114,39 @@ enum Command {
     Bench(bench::Bench),
     /// Write a grid map (MovingAI or the H* paper's text format) as a MovingAI `.map`, and with
     /// --scen its agents as a MovingAI `.scen`, so any MovingAI tool (e.g. the MAPF visualizer)
-    /// reads them.
+    /// reads them; or, with --plan, a grid plan in another format (--to): the plan envelope,
+    /// LaCAM text, a MAPF Tracker result CSV or PlanViz's LoRR JSON (the input's format is
+    /// detected from its content; it must validate against --map/--scen before anything is
+    /// written).
     #[command(
-        after_help = "Examples (from the repository's root):\n  mrpp convert -m data/hstar-paper/scenario3/scenery_warehouse.txt -i data/hstar-paper/scenario3/30warehouse --out-map warehouse.map --out-scen warehouse-30.scen"
+        after_help = "Examples (from the repository's root):\n  mrpp convert -m data/hstar-paper/scenario3/scenery_warehouse.txt -i data/hstar-paper/scenario3/30warehouse --out-map warehouse.map --out-scen warehouse-30.scen\n  mrpp convert -m data/movingai/random-32-32-20.map -i data/movingai/random-32-32-20-random-1.scen -N 100 --plan plan.json --to tracker --out plan.csv\n  mrpp convert -m data/movingai/random-32-32-20.map -i data/movingai/random-32-32-20-random-1.scen --plan plan.csv --to planviz --out planviz.json"
     )]
     Convert {
         #[arg(short = 'm', long)]
         map: PathBuf,
-        /// Agents to write as `.scen` (MovingAI `.scen` or the H* paper's robot file).
+        /// Agents to write as `.scen` (MovingAI `.scen` or the H* paper's robot file); with
+        /// --plan, the scenario the plan solves.
         #[arg(short = 'i', long)]
         scen: Option<PathBuf>,
-        /// Only the first N agents.
+        /// Only the first N agents (with --plan: the plan's agent count, which picks a MAPF
+        /// Tracker CSV's row).
         #[arg(short = 'N', long, allow_negative_numbers = true, value_parser = crate::output::parse_count)]
         agents: Option<usize>,
-        #[arg(long)]
-        out_map: PathBuf,
+        #[arg(long, required_unless_present = "plan", conflicts_with = "plan")]
+        out_map: Option<PathBuf>,
         /// Where the `.scen` goes (needs --scen).
-        #[arg(long)]
+        #[arg(long, conflicts_with = "plan")]
         out_scen: Option<PathBuf>,
+        /// A grid plan to convert: plan envelope, LaCAM text, MAPF Tracker CSV or PlanViz JSON
+        /// (detected from the content).
+        #[arg(long, requires_all = ["to", "out", "scen"])]
+        plan: Option<PathBuf>,
+        /// The format to write the plan in.
+        #[arg(long, value_enum, requires = "plan")]
+        to: Option<gen_cmd::PlanFormat>,
+        /// Where the converted plan goes (`-` for stdout; never one of the inputs).
+        #[arg(short = 'o', long, requires = "plan")]
+        out: Option<PathBuf>,
     },
     /// Print a shell completion script (bash, zsh, fish, elvish, powershell).
     #[command(
@@ -360,7 +375,21 @@ fn run(command: Command) -> Result<u8, Fail> {
             agents,
             out_map,
             out_scen,
-        } => gen_cmd::convert(&map, scen.as_deref(), agents, &out_map, out_scen.as_deref()),
+            plan,
+            to,
+            out,
+        } => match (plan, to, out, out_map) {
+            (Some(plan), Some(to), Some(out), _) => {
+                gen_cmd::convert_plan(&map, scen.as_deref(), agents, &plan, to, &out)
+            }
+            (_, _, _, Some(out_map)) => {
+                gen_cmd::convert(&map, scen.as_deref(), agents, &out_map, out_scen.as_deref())
+            }
+            _ => Err(Fail(
+                "convert: give --out-map (a map and agents) or --plan, --to and --out (a plan)"
+                    .into(),
+            )),
+        },
     }
 }
 

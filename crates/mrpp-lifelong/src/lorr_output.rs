@@ -14,15 +14,33 @@
 //! steps any robot spent holding a task. Under `MAPF` the `actionModel` is `"MAPF"` and moves
 //! are `U`, `D`, `L`, `R` as PlanViz reads them (`U` = row + 1; [`crate::model`]); the kit never
 //! writes that model.
+//!
+//! A one-shot grid plan (MAPF: each agent goes from its start to one goal and stays) is written
+//! in the same layout for PlanViz by [`one_shot_to_json`] and read back by
+//! [`one_shot_from_json`]: `actionModel` `"MAPF"`, each agent's single goal its task (task `i`
+//! for agent `i`, one errand, revealed and assigned at step 0, finished when the agent last
+//! arrives), paths padded with `W` to the makespan. Checked against PlanViz commit `c03a1d6`
+//! (MAPF-Competition/PlanViz, 2026-04-14, the 3.x line): `script/run.py` picks its 2024 loader
+//! (`PlanConfig2024`) for `"version": "2024 LoRR"`; that loader needs `teamSize`, `makespan`,
+//! `actionModel`, `start` (`[row, col, "E"]`: integers, then a key of its `DIRECTION`),
+//! `actualPaths` and `plannerPaths` (one string per agent, comma-separated letters),
+//! `tasks` (`[id, t, [row, col]]`, at least one: `load_events` asserts it), `actualSchedule`
+//! (per agent a non-empty `"t:task"` list whose tasks are in `tasks`) and `events` (`[t, agent,
+//! task, errands done]`); `errors` and `scheduleErrors` may be empty.
 
 use std::path::Path;
 
 use serde_json::{Value, json};
 
 use mrpp_core::error::{Error, Result};
+use mrpp_core::mapf::graph::VertexId;
+use mrpp_core::mapf::plan::{GoalSemantics, path_cost};
+use mrpp_core::{Instance, Plan};
+use mrpp_mapf::GridMap;
+use mrpp_mapf::lorr_files::LorrFiles;
 
 use crate::execution::{TickRecord, replay_ticks};
-use crate::model::{Action, ActionModel};
+use crate::model::{Action, ActionModel, apply, direction};
 use crate::model::{EAST, State};
 use crate::problem::{Assign, LifelongProblem, ScheduleErrorRecord, StepError, Trace, replay};
 use crate::ticks::{TickState, after_tick};
@@ -531,4 +549,318 @@ fn schedule_changes(
     }
     out.sort_by_key(|c| (c.t, c.agent));
     Ok(out)
+}
+
+/// The lifelong problem a one-shot grid instance stands for (module doc): robots on the starts,
+/// task `i` the single errand `goals[i]`, one task open per robot, `steps` steps (at least 1).
+/// File names are made up (`one-shot.*`).
+fn one_shot_problem(
+    map: &GridMap,
+    starts: &[VertexId],
+    goals: &[VertexId],
+    steps: u32,
+) -> LifelongProblem {
+    let files = LorrFiles {
+        path: "one-shot.json".into(),
+        map_path: "one-shot.map".into(),
+        agent_path: "one-shot.agents".into(),
+        task_path: "one-shot.tasks".into(),
+        map: map.clone(),
+        start_lines: (1..=starts.len()).collect(),
+        starts: starts.to_vec(),
+        task_lines: (1..=goals.len()).collect(),
+        tasks: goals.iter().map(|&g| vec![g]).collect(),
+        num_tasks_reveal: 1.0,
+        version: VERSION.into(),
+        json: Value::Null,
+    };
+    LifelongProblem::new(
+        files,
+        ActionModel::Mapf,
+        steps,
+        std::time::Duration::from_secs(1),
+    )
+}
+
+/// PlanViz's JSON of a one-shot grid plan (module doc): `plan` on `map` for `inst`, each path
+/// starting on its agent's start and ending on its goal (trailing waits carry nothing and are
+/// padded back with `W`).
+///
+/// # Errors
+/// A path that does not end on its goal, or a step that is neither a wait nor a move to a
+/// 4-neighbour (naming agent and step).
+pub fn one_shot_to_json(
+    map: &GridMap,
+    inst: &Instance,
+    plan: &Plan,
+) -> std::result::Result<Value, String> {
+    let n = inst.num_agents();
+    if plan.paths.len() != n {
+        return Err(format!(
+            "the plan has {} paths for {n} agents",
+            plan.paths.len()
+        ));
+    }
+    let mut costs = Vec::with_capacity(n);
+    for (i, p) in plan.paths.iter().enumerate() {
+        costs.push(
+            path_cost(p, inst.goals[i], GoalSemantics::Stay)
+                .ok_or_else(|| format!("agent {i} does not end on its goal"))?,
+        );
+    }
+    let makespan = costs.iter().copied().max().unwrap_or(0);
+    let mut actions = Vec::with_capacity(n);
+    for (i, p) in plan.paths.iter().enumerate() {
+        let at = |k: usize| p[k.min(p.len() - 1)];
+        let mut a = Vec::with_capacity(makespan);
+        for k in 0..makespan {
+            let (v, w) = (at(k), at(k + 1));
+            a.push(if v == w {
+                Action::Wait
+            } else {
+                Action::Move(direction(map, v, w).ok_or_else(|| {
+                    format!(
+                        "agent {i}, step {}: not a wait or a move to a neighbouring cell",
+                        k + 1
+                    )
+                })?)
+            });
+        }
+        actions.push(a);
+    }
+    let problem = one_shot_problem(map, &inst.starts, &inst.goals, makespan as u32);
+    let assigned: Vec<Assign> = (0..n)
+        .map(|i| Assign {
+            t: 0,
+            agent: i,
+            task: Some(i),
+        })
+        .collect();
+    let letters: Vec<String> = actions
+        .iter()
+        .map(|a| {
+            a.iter()
+                .map(|x| x.letter().to_string())
+                .collect::<Vec<_>>()
+                .join(",")
+        })
+        .collect();
+    let tasks: Vec<Value> = inst
+        .goals
+        .iter()
+        .enumerate()
+        .map(|(i, &g)| {
+            let (x, y) = map.cell(g);
+            json!([i, 0, [y, x]])
+        })
+        .collect();
+    Ok(json!({
+        "actionModel": ActionModel::Mapf.name(),
+        "version": VERSION,
+        "teamSize": n,
+        "numTaskFinished": n,
+        "makespan": makespan,
+        "numPlannerErrors": 0,
+        "numScheduleErrors": 0,
+        "numEntryTimeouts": 0,
+        "start": starts_json(&problem),
+        "actualPaths": letters,
+        "plannerPaths": letters,
+        "plannerTimes": [],
+        "errors": [],
+        "actualSchedule": schedules(&assigned, n),
+        "plannerSchedule": schedules(&assigned, n),
+        "scheduleErrors": [],
+        "events": costs.iter().enumerate().map(|(i, &c)| json!([c, i, i, 1])).collect::<Vec<_>>(),
+        "tasks": tasks,
+    }))
+}
+
+/// Reads PlanViz's JSON of a one-shot grid plan (module doc; any LoRR output of the `MAPF`
+/// model in the 2024 layout: agent `i`'s goal is the last errand of task `i`) on `map`: the
+/// instance and the plan its `actualPaths` give. Whether the plan is valid is the validator's
+/// question.
+///
+/// # Errors
+/// Naming `path`: not JSON, an action model other than `MAPF`, a `start` or `tasks` entry that
+/// is not `[row, col, ...]` / `[id, t, [row, col, ...]]` on a free cell, fewer tasks than agents,
+/// what [`from_json`] refuses in the paths, a move off the map or into a wall (agent and step).
+pub fn one_shot_from_json(map: &GridMap, text: &str, path: &Path) -> Result<(Instance, Plan)> {
+    let json: Value = serde_json::from_str(text.trim_start_matches('\u{feff}'))
+        .map_err(|e| Error::parse(path, e.line(), format!("not a PlanViz JSON: {e}")))?;
+    let model = model_of(&json, path)?;
+    if model != ActionModel::Mapf {
+        return Err(Error::invalid(
+            path,
+            format!(
+                "`actionModel` is `{}`: a one-shot grid plan is `MAPF`",
+                model.name()
+            ),
+        ));
+    }
+    let cell = |v: Option<&Value>, what: String| -> Result<VertexId> {
+        let rc = v
+            .and_then(Value::as_array)
+            .and_then(|a| Some((a.first()?.as_i64()?, a.get(1)?.as_i64()?)));
+        let (row, col) = rc.ok_or_else(|| {
+            Error::invalid(path, format!("{what} is not [row, col, ...] of integers"))
+        })?;
+        map.vertex_at(col, row).ok_or_else(|| {
+            Error::invalid(
+                path,
+                format!(
+                    "{what} is row {row}, column {col}: {}",
+                    map.cell_problem(col, row).unwrap_or_default()
+                ),
+            )
+        })
+    };
+    let list = |key: &str| -> Result<&Vec<Value>> {
+        json.get(key)
+            .and_then(Value::as_array)
+            .ok_or_else(|| Error::invalid(path, format!("no `{key}` (a list)")))
+    };
+    let starts = list("start")?
+        .iter()
+        .enumerate()
+        .map(|(i, s)| cell(Some(s), format!("`start`[{i}]")))
+        .collect::<Result<Vec<_>>>()?;
+    let tasks = list("tasks")?;
+    if tasks.len() < starts.len() {
+        return Err(Error::invalid(
+            path,
+            format!(
+                "`tasks` lists {} tasks for {} agents: agent i's goal is task i",
+                tasks.len(),
+                starts.len()
+            ),
+        ));
+    }
+    let goals = tasks[..starts.len()]
+        .iter()
+        .enumerate()
+        .map(|(i, t)| {
+            let last = t
+                .get(2)
+                .and_then(Value::as_array)
+                .filter(|e| e.len() >= 2)
+                .map(|e| json!([e[e.len() - 2], e[e.len() - 1]]));
+            cell(last.as_ref(), format!("`tasks`[{i}]'s last errand"))
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let inst = Instance::new(starts, goals).map_err(|e| Error::invalid(path, e))?;
+    let problem = one_shot_problem(map, &inst.starts, &inst.goals, 1);
+    let (trace, _) = from_json(&problem, text, path)?;
+    let mut paths = Vec::with_capacity(inst.num_agents());
+    for (i, (actions, &start)) in trace.actions.iter().zip(&inst.starts).enumerate() {
+        let mut s = State {
+            vertex: start,
+            orientation: EAST,
+        };
+        let mut p = Vec::with_capacity(actions.len() + 1);
+        p.push(start);
+        for (k, &a) in actions.iter().enumerate() {
+            s = apply(map, s, a).ok_or_else(|| {
+                Error::invalid(
+                    path,
+                    format!(
+                        "`actualPaths`[{i}], step {}: `{}` leaves the map or enters a wall",
+                        k + 1,
+                        a.letter()
+                    ),
+                )
+            })?;
+            p.push(s.vertex);
+        }
+        paths.push(p);
+    }
+    Ok((inst, Plan::new(paths)))
+}
+
+#[cfg(test)]
+mod one_shot_tests {
+    use super::*;
+
+    fn map() -> GridMap {
+        GridMap::parse("....\n.#..\n....", Path::new("m.txt"))
+            .unwrap()
+            .0
+    }
+
+    fn v(m: &GridMap, x: i64, y: i64) -> VertexId {
+        m.vertex_at(x, y).unwrap()
+    }
+
+    fn instance(m: &GridMap) -> (Instance, Plan) {
+        let inst =
+            Instance::new(vec![v(m, 0, 0), v(m, 3, 2)], vec![v(m, 3, 0), v(m, 3, 1)]).unwrap();
+        let a: Vec<VertexId> = (0..4).map(|x| v(m, x, 0)).collect();
+        let b = vec![v(m, 3, 2), v(m, 3, 2), v(m, 3, 1)];
+        (inst, Plan::new(vec![a, b]))
+    }
+
+    #[test]
+    fn writes_what_planviz_reads() {
+        let m = map();
+        let (inst, plan) = instance(&m);
+        let j = one_shot_to_json(&m, &inst, &plan).unwrap();
+        assert_eq!(j["actionModel"], "MAPF");
+        assert_eq!(j["version"], "2024 LoRR");
+        assert_eq!(j["makespan"], 3);
+        // `U` is row + 1 and `D` row - 1 in PlanViz: agent 1 goes up the screen with `D`.
+        assert_eq!(j["actualPaths"], json!(["R,R,R", "W,D,W"]));
+        assert_eq!(j["start"], json!([[0, 0, "E"], [2, 3, "E"]]));
+        assert_eq!(j["tasks"], json!([[0, 0, [0, 3]], [1, 0, [1, 3]]]));
+        assert_eq!(j["actualSchedule"], json!(["0:0", "0:1"]));
+        assert_eq!(j["events"], json!([[3, 0, 0, 1], [2, 1, 1, 1]]));
+    }
+
+    #[test]
+    fn round_trip_gives_the_same_paths() {
+        let m = map();
+        let (inst, plan) = instance(&m);
+        let text = serde_json::to_string(&one_shot_to_json(&m, &inst, &plan).unwrap()).unwrap();
+        let (back_inst, mut back) = one_shot_from_json(&m, &text, Path::new("p.json")).unwrap();
+        assert_eq!(back_inst, inst);
+        back.trim();
+        let mut want = plan;
+        want.trim();
+        assert_eq!(back, want);
+    }
+
+    #[test]
+    fn bad_files_name_the_rule() {
+        let m = map();
+        let (inst, plan) = instance(&m);
+        let good = one_shot_to_json(&m, &inst, &plan).unwrap();
+        let err = |f: &dyn Fn(&mut Value)| {
+            let mut j = good.clone();
+            f(&mut j);
+            one_shot_from_json(&m, &j.to_string(), Path::new("p.json"))
+                .unwrap_err()
+                .to_string()
+        };
+        assert!(err(&|j| j["actionModel"] = json!("MAPF_T")).contains("`MAPF`"));
+        assert!(err(&|j| j["start"][1] = json!([1, 1, "E"])).contains("`start`[1]"));
+        assert!(
+            err(&|j| j["actualPaths"][1] = json!("W,U,W")).contains("`actualPaths`[1], step 2")
+        );
+        assert!(
+            err(&|j| j["actualPaths"][0] = json!("R,X,R")).contains("`X` is not a MAPF action")
+        );
+        assert!(err(&|j| j["tasks"] = json!([])).contains("`tasks` lists 0"));
+        let e = one_shot_from_json(&m, "{", Path::new("p.json"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("not a PlanViz JSON"), "{e}");
+        let far = Plan::new(vec![
+            vec![v(&m, 0, 0), v(&m, 3, 0)],
+            vec![v(&m, 3, 2), v(&m, 3, 1)],
+        ]);
+        assert!(
+            one_shot_to_json(&m, &inst, &far)
+                .unwrap_err()
+                .contains("agent 0, step 1")
+        );
+    }
 }
