@@ -76,6 +76,9 @@ pub struct TicksConfig {
     /// value, its delays (`delays`, else its `delayConfig`) with `pDelay` replaced; a peer reads
     /// a copy of the problem file whose `delayConfig` says the same.
     pub delay_probabilities: Vec<f64>,
+    /// Actions of slack to sweep (`mrpp_lifelong::k_robust`; empty: 0 only): every planner
+    /// configuration runs once per value, named `PLANNER+K-robust` for K > 0 (the peer once).
+    pub k_robust: Vec<u32>,
 }
 
 /// One run of the sweep.
@@ -88,6 +91,8 @@ pub enum LorrJob {
         scheduler: usize,
         guidance: usize,
         run: usize,
+        /// Index into [`TicksConfig::k_robust`] (0 when it is empty).
+        robust: usize,
     },
     /// The peer on problem `problem`.
     Peer { problem: usize },
@@ -124,6 +129,10 @@ pub struct LorrRow {
     pub finished: Vec<u32>,
     /// Why a peer failed, or the validator's refusal.
     pub note: String,
+    /// In ticks, mrpp's runs: robot-ticks the per-tick resolution made a robot wait rather
+    /// than collide (`errors` of the trace; the kit records only the last tick's).
+    #[serde(default)]
+    pub resolver_waits: Option<usize>,
 }
 
 /// The sweep.
@@ -220,6 +229,7 @@ impl LorrSweep {
                 sources.push((index, Some(prob)));
             }
         }
+        let robust_values = cfg.ticks.as_ref().map_or(1, |t| t.k_robust.len().max(1));
         let mut jobs = Vec::new();
         for problem in 0..problems.len() {
             if cfg.peer.is_some() {
@@ -228,14 +238,17 @@ impl LorrSweep {
             for planner in 0..cfg.planners.len() {
                 for scheduler in 0..cfg.schedulers.len() {
                     for guidance in 0..cfg.guidance.len() {
-                        for run in 0..cfg.runs {
-                            jobs.push(LorrJob::Mrpp {
-                                problem,
-                                planner,
-                                scheduler,
-                                guidance,
-                                run,
-                            });
+                        for robust in 0..robust_values {
+                            for run in 0..cfg.runs {
+                                jobs.push(LorrJob::Mrpp {
+                                    problem,
+                                    planner,
+                                    scheduler,
+                                    guidance,
+                                    run,
+                                    robust,
+                                });
+                            }
                         }
                     }
                 }
@@ -272,7 +285,17 @@ impl LorrSweep {
             wall_s: 0.0,
             finished: Vec::new(),
             note: String::new(),
+            resolver_waits: None,
         }
+    }
+
+    /// The `index`th value of the k-robust sweep (0 without one).
+    fn k_robust(&self, index: usize) -> u32 {
+        self.cfg
+            .ticks
+            .as_ref()
+            .and_then(|t| t.k_robust.get(index).copied())
+            .unwrap_or(0)
     }
 
     /// The overall limit of one run (module doc).
@@ -306,6 +329,7 @@ impl LorrSweep {
             row.planner_ms_max = times[times.len() - 1];
         }
         row.finished = finished;
+        row.resolver_waits = trace.ticks.is_some().then_some(trace.errors.len());
         Ok(())
     }
 
@@ -397,6 +421,8 @@ impl LorrSweep {
             .and_then(|(trace, claims)| {
                 self.measure(problem, &trace, &mut row)
                     .map_err(|e| e.to_string())?;
+                // The kit's output keeps only the last tick's waits.
+                row.resolver_waits = None;
                 if Some(claims.tasks_finished) != row.tasks_finished.map(|t| t as u64) {
                     return Err(format!(
                         "it claims {} tasks finished, the replay counts {:?}",
@@ -467,6 +493,7 @@ impl Sweep for LorrSweep {
                 scheduler,
                 guidance,
                 run,
+                robust,
             } => {
                 // lifelong-pibt's keys (and so its seeds) are those of the sweeps before
                 // other planners could be run.
@@ -476,8 +503,13 @@ impl Sweep for LorrSweep {
                 } else {
                     format!("{name}/")
                 };
+                // k = 0 keeps the keys (and seeds) of sweeps before k-robust runs.
+                let robust = match self.k_robust(robust) {
+                    0 => String::new(),
+                    k => format!("/k{k}"),
+                };
                 format!(
-                    "{}/{planner}{}/{}/{run}",
+                    "{}/{planner}{}/{}/{run}{robust}",
                     self.problems[problem].0,
                     self.cfg.schedulers[scheduler],
                     self.cfg.guidance[guidance]
@@ -491,7 +523,7 @@ impl Sweep for LorrSweep {
         }
     }
     fn run(&self, job: &LorrJob) -> Result<LorrRow> {
-        let (problem, planner, scheduler, guidance, run) = match *job {
+        let (problem, planner, scheduler, guidance, run, robust) = match *job {
             LorrJob::Peer { problem } => {
                 let peer = self.cfg.peer.as_ref().expect("a peer job has a peer");
                 return Ok(self.run_peer(problem, peer));
@@ -502,10 +534,16 @@ impl Sweep for LorrSweep {
                 scheduler,
                 guidance,
                 run,
-            } => (problem, planner, scheduler, guidance, run),
+                robust,
+            } => (problem, planner, scheduler, guidance, run, robust),
         };
         let entry = planner_entry(&self.cfg.planners[planner])?;
-        let mut row = self.row(problem, entry.name);
+        let k = self.k_robust(robust);
+        let mut row = if k == 0 {
+            self.row(problem, entry.name)
+        } else {
+            self.row(problem, &format!("{}+{k}-robust", entry.name))
+        };
         row.scheduler = self.cfg.schedulers[scheduler].clone();
         row.guidance = self.cfg.guidance[guidance].clone();
         row.run = run;
@@ -514,10 +552,20 @@ impl Sweep for LorrSweep {
             ("scheduler".into(), row.scheduler.clone()),
             ("guidance".into(), row.guidance.clone()),
         ])?;
+        let with_k;
+        let p = if k == 0 {
+            &self.problems[problem].1
+        } else {
+            let p = &self.problems[problem].1;
+            let mut m = p.execution().cloned().expect("k-robust runs are in ticks");
+            m.k_robust = k;
+            with_k = p.clone().with_execution(m);
+            &with_k
+        };
         let started = std::time::Instant::now();
         let solved = solve(
             planner.as_ref(),
-            &self.problems[problem].1,
+            p,
             &Ctx::new(row.seed, Deadline::after(self.run_limit())),
         )
         .map_err(|e| match e {
@@ -864,6 +912,7 @@ mod tests {
                 plan_every: 10,
                 delays: None,
                 delay_probabilities: probabilities,
+                k_robust: Vec::new(),
             }),
         };
         let sweep = LorrSweep::new(cfg(vec![0.0, 0.05])).unwrap();
@@ -900,6 +949,27 @@ mod tests {
         std::fs::remove_dir_all(&dir).unwrap();
         let e = LorrSweep::new(cfg(vec![1.5])).err().unwrap();
         assert!(e.to_string().contains("[0, 1]"), "{e}");
+        // A k-robust sweep: one run per value, named after it, k = 0 keeping its old key (and
+        // seed), each run valid and filtered.
+        let mut c = cfg(vec![0.05]);
+        c.ticks.as_mut().unwrap().k_robust = vec![0, 2];
+        let sweep = LorrSweep::new(c).unwrap();
+        assert_eq!(sweep.jobs.len(), 2);
+        let keys: Vec<String> = sweep.jobs.iter().map(|j| sweep.key(j)).collect();
+        assert_eq!(
+            keys,
+            [
+                "maze-example_40@p=0.05/greedy/auto/0",
+                "maze-example_40@p=0.05/greedy/auto/0/k2"
+            ]
+        );
+        let rows: Vec<LorrRow> = sweep.jobs.iter().map(|j| sweep.run(j).unwrap()).collect();
+        assert_eq!(rows[0].program, PIBT_ENTRY.name);
+        assert_eq!(rows[1].program, format!("{}+2-robust", PIBT_ENTRY.name));
+        for r in &rows {
+            assert_eq!(r.status, "valid");
+            assert!(r.resolver_waits.is_some());
+        }
     }
 
     #[test]

@@ -27,11 +27,6 @@ pub(crate) struct ExecuteArgs {
     /// The grid plan to execute (mrpp's plan JSON or LaCAM text).
     #[arg(long)]
     plan: PathBuf,
-    /// Re-time the plan to be k-robust before executing it: no robot enters a cell another
-    /// left fewer than K steps earlier (Atzmon et al., JAIR 2020), the plan's order of passage
-    /// kept; 0 = as planned. It matters to the naive executor (the ADG keeps the order anyway).
-    #[arg(long, default_value_t = 0, allow_negative_numbers = true)]
-    k_robust: i64,
     /// Re-plan when a robot is this many ticks behind its plan's timing: the re-planner plans
     /// again from where the robots will stand once their moves in progress are done, and its
     /// plan takes over (mrpp_exec::replan; planning is charged no ticks). Default: never.
@@ -72,15 +67,7 @@ pub(crate) fn execute(a: &ExecuteArgs) -> Result<u8, Fail> {
         ));
     }
     let (map, problem, plan) = crate::grid_family::read_valid_plan(&a.inputs, &a.plan)?;
-    let k = u32::try_from(a.k_robust)
-        .ok()
-        .filter(|&k| k <= 1000)
-        .ok_or_else(|| {
-            Fail(format!(
-                "--k-robust {}: expected 0 to 1000 steps",
-                a.k_robust
-            ))
-        })?;
+    let k = crate::family::k_robust(&a.inputs)?;
     let plan = mrpp_exec::robust::k_robust(&plan, k);
     // k = 0 leaves the plan as read (and validated); a re-timed one is checked again.
     if k > 0 {

@@ -179,6 +179,17 @@ pub struct LorrArgs {
         requires = "ticks"
     )]
     delay_probabilities: Vec<f64>,
+    /// With --ticks: actions of slack to sweep (comma-separated, 0 to 1000): every planner
+    /// configuration runs once per value, each planned step filtered so that no robot enters a
+    /// cell another left fewer than K actions earlier (k-robust, Atzmon et al., JAIR 2020);
+    /// shown as PLANNER+K-robust. Default: 0 only (plans as made).
+    #[arg(
+        long,
+        value_delimiter = ',',
+        allow_negative_numbers = true,
+        requires = "ticks"
+    )]
+    k_robust: Vec<i64>,
     /// Planning time per step, in seconds.
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     step_time_limit: f64,
@@ -584,6 +595,15 @@ pub fn run(cmd: Experiment, merge: Option<Mode>) -> Result<u8, Fail> {
                         .transpose()
                         .map_err(Fail)?,
                     delay_probabilities: a.delay_probabilities.clone(),
+                    k_robust: a
+                        .k_robust
+                        .iter()
+                        .map(|&k| {
+                            u32::try_from(k).ok().filter(|&k| k <= 1000).ok_or_else(|| {
+                                Fail(format!("--k-robust {k}: expected 0 to 1000 actions"))
+                            })
+                        })
+                        .collect::<Result<_, _>>()?,
                 }),
             };
             let cfg = LorrConfig {

@@ -86,6 +86,13 @@ pub struct Inputs {
     /// executor, default) or naive.
     #[arg(long)]
     pub executor: Option<String>,
+    /// Execution: keep K actions of slack, so that a robot up to K actions late makes no other
+    /// wait (k-robust, Atzmon et al., JAIR 2020: no robot enters a cell another left fewer than
+    /// K steps earlier). `execute`: the plan is re-timed, its order of passage kept (it matters
+    /// to the naive executor; the ADG keeps the order anyway). Lifelong in ticks: every planned
+    /// step is filtered, moves that would break it wait. 0 (default): plans as made.
+    #[arg(long, allow_negative_numbers = true)]
+    pub k_robust: Option<i64>,
     /// Execution: ticks per action (the League's agentCounter). Default 1 for `execute`; the
     /// problem's agentCounter (else 10) for lifelong runs in ticks.
     #[arg(long, allow_negative_numbers = true, value_parser = crate::output::parse_count)]
@@ -128,6 +135,15 @@ pub(crate) fn ticks_per_move(inputs: &Inputs) -> Result<Option<u32>, Fail> {
                 .ok_or_else(|| Fail(format!("--ticks-per-move {t}: expected 1 to 1000")))
         })
         .transpose()
+}
+
+/// `--k-robust`, checked (0 to 1000 actions); 0 when not given.
+pub(crate) fn k_robust(inputs: &Inputs) -> Result<u32, Fail> {
+    let k = inputs.k_robust.unwrap_or(0);
+    u32::try_from(k)
+        .ok()
+        .filter(|&k| k <= 1000)
+        .ok_or_else(|| Fail(format!("--k-robust {k}: expected 0 to 1000 steps")))
 }
 
 /// `--agent-size`, checked (in (0, 1] cells), if given.
@@ -243,6 +259,25 @@ impl Inputs {
                 given.len(),
                 list.join(" and ")
             )));
+        }
+        Ok(())
+    }
+
+    /// Refuses the execution flags (they apply to `mrpp execute` and lifelong runs in ticks)
+    /// when planning a `family` problem, rather than ignoring them.
+    pub(crate) fn no_execution_flags(&self, family: &str) -> Result<(), Fail> {
+        for (given, flag) in [
+            (self.delays.is_some(), "--delays"),
+            (self.executor.is_some(), "--executor"),
+            (self.k_robust.is_some(), "--k-robust"),
+            (self.ticks_per_move.is_some(), "--ticks-per-move"),
+            (self.agent_size.is_some(), "--agent-size"),
+        ] {
+            if given {
+                return Err(Fail(format!(
+                    "{flag} applies to `mrpp execute` and to lifelong runs in ticks (--lorr P.json, a lifelong planner, --ticks N), not to planning a {family} problem"
+                )));
+            }
         }
         Ok(())
     }
@@ -507,6 +542,9 @@ fn run_planner<P: Problem + 'static>(
             def.name,
             needs(def.name)
         )));
+    }
+    if def.name != "lifelong" {
+        req.inputs.no_execution_flags(def.name)?;
     }
     if req.format == Format::Lacam && !def.lacam {
         return Err(Fail(format!(

@@ -121,6 +121,7 @@ pub(crate) fn load_problem(inputs: &Inputs) -> Result<LifelongProblem, Fail> {
             (inputs.executor.is_some(), "--executor"),
             (inputs.ticks_per_move.is_some(), "--ticks-per-move"),
             (inputs.agent_size.is_some(), "--agent-size"),
+            (inputs.k_robust.is_some(), "--k-robust"),
         ] {
             if given {
                 return Err(Fail(format!(
@@ -150,6 +151,7 @@ fn execution_model(inputs: &Inputs, files: &lorr_files::LorrFiles) -> Result<Exe
     if let Some(s) = crate::family::agent_size(inputs)? {
         m.agent_size = s;
     }
+    m.k_robust = crate::family::k_robust(inputs)?;
     if let Some(k) = inputs.plan_every {
         m.plan_every = u32::try_from(k)
             .ok()
@@ -170,12 +172,17 @@ fn load(inputs: &Inputs) -> Result<Loaded<LifelongProblem>, Fail> {
             problem.step_time().as_secs_f64()
         ),
         Some(m) => format!(
-            "{} ticks, {} per action | a plan every {} ticks, {} s each | executor {} | delays {}",
+            "{} ticks, {} per action | a plan every {} ticks, {} s each | executor {}{} | delays {}",
             problem.steps(),
             m.agent_counter,
             m.plan_every,
             problem.step_time().as_secs_f64(),
             m.executor.name(),
+            if m.k_robust > 0 {
+                format!(" | {}-robust plans", m.k_robust)
+            } else {
+                String::new()
+            },
             m.delays.spec()
         ),
     };
@@ -260,6 +267,7 @@ fn write_plan(
             "delay_seed": m.delay_seed,
             "plan_every": m.plan_every,
             "executor": m.executor.name(),
+            "k_robust": m.k_robust,
         })),
         "metrics": metrics,
         "runtime_ms": info.runtime_ms,

@@ -615,6 +615,14 @@ fn a_run_in_ticks_under_delays_is_written_validated_and_bad_settings_are_refused
             vec!["--steps", "50", "--delays", "none"],
             "--delays applies to lifelong runs in ticks",
         ),
+        (
+            vec!["--steps", "50", "--k-robust", "1"],
+            "--k-robust applies to lifelong runs in ticks",
+        ),
+        (
+            vec!["--ticks", "50", "--k-robust", "-2"],
+            "--k-robust -2: expected 0 to 1000",
+        ),
     ] {
         let mut all = vec!["solve", "--lorr", MAZE, "-P", "lifelong-pibt", "-o", n];
         all.extend(args);

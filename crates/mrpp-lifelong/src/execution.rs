@@ -22,7 +22,8 @@
 //! - **Multi-step plans.** mrpp's lifelong planners answer one step at a time; a plan is
 //!   `actions per period + 1` of their steps rolled out from the predicted states (as the kit's
 //!   default planner rolls out PIBT), each with an equal share of the period's time. The
-//!   schedule is the first step's.
+//!   schedule is the first step's. With `k_robust` > 0 each rolled-out step is filtered to keep
+//!   that many actions of slack between robots passing through a cell ([`crate::k_robust`]).
 //! - **Schedules** are repaired as the kit repairs them (`TaskManager::validate_task_assignment`):
 //!   a finished or twice-proposed task is dropped from the later robot, a robot that has opened
 //!   a task keeps it, a task opened by another robot is dropped; each repair is a schedule error.
@@ -49,6 +50,7 @@ use mrpp_mapf::lorr_files::LorrFiles;
 
 use crate::distances::Distances;
 use crate::executor::{Executor, ExecutorKind};
+use crate::k_robust::KRobust;
 use crate::model::{Action, State};
 use crate::problem::{
     Assign, LifelongProblem, LifelongViolation, ScheduleErrorRecord, StepError, Trace, check_shape,
@@ -77,6 +79,9 @@ pub struct ExecutionModel {
     pub plan_every: u32,
     /// The executor.
     pub executor: ExecutorKind,
+    /// Actions of slack the multi-step plans keep ([`crate::k_robust`]; 0: plans as the planner
+    /// made them).
+    pub k_robust: u32,
 }
 
 impl ExecutionModel {
@@ -132,6 +137,7 @@ impl ExecutionModel {
             delay_seed,
             plan_every: DEFAULT_PLAN_EVERY,
             executor: ExecutorKind::Tpg,
+            k_robust: 0,
         })
     }
 }
@@ -315,6 +321,9 @@ type Planned = (Vec<Vec<Action>>, Vec<Option<usize>>);
 
 /// A plan of `steps` steps rolled out by `call` from `predicted` (module doc, "Multi-step
 /// plans"): per robot its actions, and the first step's schedule.
+/// With `robust` (and `ticks`: the tick the plan is staged at, ticks per action), each step is
+/// filtered to keep its slack ([`crate::k_robust`]) before it is checked.
+#[allow(clippy::too_many_arguments)]
 fn rollout(
     sim: &Simulation<'_>,
     predicted: &[State],
@@ -322,15 +331,20 @@ fn rollout(
     budget: Duration,
     dist: &mut Distances,
     call: &mut impl FnMut(&Simulation<'_>, &mut Distances, Duration) -> Answer,
+    mut robust: Option<&mut KRobust>,
+    ticks: (u64, u32),
 ) -> std::result::Result<Planned, Unsolved> {
     let n = predicted.len();
+    if let Some(r) = robust.as_deref_mut() {
+        r.begin_rollout(&sim.states, predicted, ticks.0);
+    }
     let mut v = sim.clone();
     v.step(predicted.to_vec());
     let mut plan = vec![Vec::with_capacity(steps); n];
     let mut first = None;
     let share = budget / steps.max(1) as u32;
     for k in 0..steps {
-        let (actions, proposal) = call(&v, dist, share);
+        let (mut actions, proposal) = call(&v, dist, share);
         if actions.len() != n || proposal.len() != n {
             return Err(Unsolved::Invalid(format!(
                 "tick {}: the planner answered {} actions and {} tasks for {n} robots",
@@ -338,6 +352,10 @@ fn rollout(
                 actions.len(),
                 proposal.len()
             )));
+        }
+        if let Some(r) = robust.as_deref_mut() {
+            let tick = ticks.0 + k as u64 * u64::from(ticks.1);
+            r.filter_step(sim.problem().map(), &v.states, &mut actions, tick);
         }
         let next = v.check_actions(&actions).map_err(|e| {
             Unsolved::Invalid(format!(
@@ -385,6 +403,11 @@ pub fn run_ticks(
     let mut executor = Executor::new(model.executor, map, &sim.states, window);
     let mut delays = DelayGenerator::new(model.delays.clone(), n, model.delay_seed);
     let mut resolver = Resolver::new(map);
+    let mut robust = KRobust::new(
+        model.k_robust,
+        model.agent_counter,
+        map.graph().num_vertices(),
+    );
     let mut trace = Trace {
         actions: vec![Vec::with_capacity((ticks as usize).min(1 << 16)); n],
         planned: vec![Vec::with_capacity((ticks as usize).min(1 << 16)); n],
@@ -407,6 +430,8 @@ pub fn run_ticks(
         budget,
         dist,
         &mut call,
+        robust.as_mut(),
+        (0, model.agent_counter),
     )?);
     trace.planner_times.push(started.elapsed().as_secs_f64());
     let mut due = 0u32;
@@ -428,7 +453,16 @@ pub fn run_ticks(
             }
             let predicted = executor.process_new_plan(map, &plan, &mut staged, &now);
             let started = Instant::now();
-            let next = rollout(&sim, &predicted, window, budget, dist, &mut call)?;
+            let next = rollout(
+                &sim,
+                &predicted,
+                window,
+                budget,
+                dist,
+                &mut call,
+                robust.as_mut(),
+                (u64::from(t + plan_every), model.agent_counter),
+            )?;
             let elapsed = started.elapsed();
             trace.planner_times.push(elapsed.as_secs_f64());
             let late = (elapsed.as_nanos() / budget.as_nanos()).min(u128::from(ticks)) as u32;
@@ -458,6 +492,11 @@ pub fn run_ticks(
             let next = after_tick(map, now[i], done[i], model.agent_counter).unwrap_or(now[i]);
             if next.state != now[i].state {
                 staged[i].pop_front();
+            }
+            if next.state.vertex != now[i].state.vertex
+                && let Some(r) = robust.as_mut()
+            {
+                r.executed_move(i, now[i].state.vertex, u64::from(t) + 1);
             }
             now[i] = next;
             trace.actions[i].push(done[i]);

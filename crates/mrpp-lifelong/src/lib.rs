@@ -18,6 +18,7 @@ pub mod distances;
 pub mod execution;
 pub mod executor;
 pub mod guide_paths;
+pub mod k_robust;
 pub mod lorr_output;
 pub mod model;
 pub mod problem;

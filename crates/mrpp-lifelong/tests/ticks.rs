@@ -184,3 +184,77 @@ fn find_robot_behind(
         starts.iter().position(|&w| w == ahead).map(|j| (i, j))
     })
 }
+
+/// Executed moves (one tick an action, so cells change at every tick) that enter a cell another
+/// robot left fewer than `k` ticks earlier, same tick included (following).
+fn slack_breaches(problem: &LifelongProblem, trace: &mrpp_lifelong::Trace, k: u64) -> usize {
+    let record = trace.ticks.as_ref().expect("a run in ticks");
+    let mut cells: Vec<Vec<u32>> = Vec::new();
+    mrpp_lifelong::execution::replay_tick_states(problem, trace, record, |sim, _| {
+        cells.push(sim.states.iter().map(|s| s.vertex).collect());
+    })
+    .unwrap();
+    let starts: Vec<u32> = problem.starts().to_vec();
+    let mut before = &starts;
+    let mut left: std::collections::HashMap<u32, (usize, u64)> = Default::default();
+    let mut breaches = 0;
+    for (t, now) in cells.iter().enumerate() {
+        let t = t as u64;
+        for (i, (&a, &b)) in before.iter().zip(now).enumerate() {
+            if a != b {
+                left.insert(a, (i, t));
+            }
+        }
+        for (i, (&a, &b)) in before.iter().zip(now).enumerate() {
+            if a != b
+                && let Some(&(j, when)) = left.get(&b)
+                && j != i
+                && t < when + k
+            {
+                breaches += 1;
+            }
+        }
+        before = now;
+    }
+    breaches
+}
+
+/// What `--k-robust` does to executed runs without delays (3 ticks an action, a plan every 10
+/// ticks, the League's executor): the executor alone already keeps one action between a robot
+/// leaving a cell and the next entering it (so k = 1 adds nothing there); k = 2 plans make
+/// passages closer than two actions rarer, though not impossible (a robot the executor stops
+/// falls behind its plan's timing, and the next plan starts from where it stands).
+#[test]
+fn k_robust_plans_space_out_the_executed_passages() {
+    for model in [ActionModel::Mapf, ActionModel::MapfT] {
+        for entry in PLANNERS {
+            let mut close = Vec::new();
+            for k in [0u32, 2] {
+                let problem = in_ticks("lorr2026-maze/maze-example_40.json", model, 600, |m| {
+                    m.agent_counter = 3;
+                    m.plan_every = 10;
+                    m.delays = DelayConfig::none();
+                    m.k_robust = k;
+                });
+                let planner = entry
+                    .instantiate(&[("lns_iterations".into(), "50".into())])
+                    .unwrap();
+                let solved = solve(planner.as_ref(), &problem, &Ctx::default()).unwrap();
+                let what = format!("{} {} k = {k}", model.name(), entry.name);
+                assert!(solved.metrics.tasks_finished > 0, "{what}");
+                assert_eq!(
+                    slack_breaches(&problem, &solved.plan, 3),
+                    0,
+                    "{what}: the executor let a robot into a cell less than an action after another left it"
+                );
+                close.push(slack_breaches(&problem, &solved.plan, 6));
+            }
+            assert!(
+                close[1] * 4 < close[0] * 3,
+                "{} {}: passages closer than two actions, k = 0 / k = 2: {close:?}",
+                model.name(),
+                entry.name
+            );
+        }
+    }
+}
