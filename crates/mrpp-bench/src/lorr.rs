@@ -639,6 +639,7 @@ fn results_csv(rows: &[&LorrRow]) -> Result<String> {
         "planner_ms_max",
         "wall_s",
         "note",
+        "resolver_waits",
     ])
     .map_err(e)?;
     let opt = |v: Option<usize>| v.map(|x| x.to_string()).unwrap_or_default();
@@ -662,6 +663,7 @@ fn results_csv(rows: &[&LorrRow]) -> Result<String> {
             format!("{:.3}", r.planner_ms_max),
             format!("{:.2}", r.wall_s),
             r.note.clone(),
+            opt(r.resolver_waits),
         ])
         .map_err(e)?;
     }
