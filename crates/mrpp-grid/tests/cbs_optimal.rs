@@ -143,8 +143,13 @@ fn cbs_and_eecbs_match_brute_force() {
             disjoint: false,
             ..Cbs::optimal().settings
         });
+        let plain = Cbs::new(mrpp_grid::cbs::Settings {
+            heuristic: false,
+            ..Cbs::optimal().settings
+        });
         for (name, planner) in [
             ("cbs", Cbs::optimal()),
+            ("cbs without the CG heuristic", plain),
             ("cbs standard splitting", standard),
             ("eecbs(1)", Cbs::eecbs(1.0)),
         ] {
