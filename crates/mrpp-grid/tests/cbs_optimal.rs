@@ -144,12 +144,17 @@ fn cbs_and_eecbs_match_brute_force() {
             ..Cbs::optimal().settings
         });
         let plain = Cbs::new(mrpp_grid::cbs::Settings {
-            heuristic: false,
+            heuristic: mrpp_grid::cbs::Heuristic::None,
+            ..Cbs::optimal().settings
+        });
+        let cg = Cbs::new(mrpp_grid::cbs::Settings {
+            heuristic: mrpp_grid::cbs::Heuristic::Cg,
             ..Cbs::optimal().settings
         });
         for (name, planner) in [
             ("cbs", Cbs::optimal()),
-            ("cbs without the CG heuristic", plain),
+            ("cbs without a heuristic", plain),
+            ("cbs with the CG heuristic", cg),
             ("cbs standard splitting", standard),
             ("eecbs(1)", Cbs::eecbs(1.0)),
         ] {

@@ -61,3 +61,96 @@ impl Mdd {
         self.levels.get(t as usize).is_none_or(|l| l.len() == 1)
     }
 }
+
+/// Most pairs of vertices one level of [`dependent`]'s joint search may hold; past it the two
+/// agents are taken as independent (which keeps a heuristic built on it admissible).
+const JOINT_LEVEL_CAP: usize = 4096;
+
+/// Whether agents with MDDs `a` and `b` have no pair of paths (of their MDDs' costs, each staying
+/// on its goal after its cost) free of vertex and swap conflicts: the *dependency* of the DG
+/// heuristic (Li, Felner, Boyarski, Koenig, "Improved heuristics for multi-agent path finding with
+/// conflict-based search", IJCAI 2019), found by a breadth-first search over pairs of MDD
+/// vertices, level by level. Consecutive levels' vertices are joined where the graph has an edge
+/// (or they are equal), which may allow a move the agent's constraints forbid: then a pair is
+/// taken as independent when it is not, never the reverse.
+pub fn dependent(graph: &Graph, a: &Mdd, b: &Mdd) -> bool {
+    fn at(m: &Mdd, t: usize) -> &[VertexId] {
+        m.levels
+            .get(t)
+            .or_else(|| m.levels.last())
+            .map_or(&[], Vec::as_slice)
+    }
+    let horizon = a.levels.len().max(b.levels.len());
+    let mut pairs: Vec<(VertexId, VertexId)> = Vec::new();
+    for &u in at(a, 0) {
+        for &v in at(b, 0) {
+            if u != v {
+                pairs.push((u, v));
+            }
+        }
+    }
+    let step = |u: VertexId, x: VertexId| u == x || graph.has_edge(u, x);
+    for t in 1..horizon {
+        let (la, lb) = (at(a, t), at(b, t));
+        let mut next: Vec<(VertexId, VertexId)> = Vec::new();
+        for &(u, v) in &pairs {
+            for &x in la.iter().filter(|&&x| step(u, x)) {
+                for &y in lb.iter().filter(|&&y| step(v, y)) {
+                    if x != y && !(x == v && y == u) && !next.contains(&(x, y)) {
+                        next.push((x, y));
+                        if next.len() > JOINT_LEVEL_CAP {
+                            return false;
+                        }
+                    }
+                }
+            }
+        }
+        if next.is_empty() {
+            return true;
+        }
+        pairs = next;
+    }
+    pairs.is_empty()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::cbs::low_level::Constraints;
+
+    #[test]
+    fn a_corridor_swap_is_dependent_and_parallel_lanes_are_not() {
+        // Two parallel corridors 0-1-2 and 3-4-5 joined at 1-4.
+        let g = Graph::from_edges(6, &[(0, 1), (1, 2), (3, 4), (4, 5), (1, 4)]);
+        let none = |goal| Constraints::new(goal, &[]);
+        let dist = |goal: VertexId| {
+            // Breadth-first hops to `goal`.
+            let mut d = [u32::MAX; 6];
+            d[goal as usize] = 0;
+            let mut queue = std::collections::VecDeque::from([goal]);
+            while let Some(u) = queue.pop_front() {
+                for &v in g.neighbors(u) {
+                    if d[v as usize] == u32::MAX {
+                        d[v as usize] = d[u as usize] + 1;
+                        queue.push_back(v);
+                    }
+                }
+            }
+            move |v: VertexId| d[v as usize]
+        };
+        // Agent a 0 -> 2 and agent b 3 -> 5 at their shortest costs: independent lanes.
+        let a = Mdd::build(&g, 0, 2, 2, &dist(2), &none(2));
+        let b = Mdd::build(&g, 3, 5, 2, &dist(5), &none(5));
+        assert!(!dependent(&g, &a, &b));
+        // Agent a 0 -> 2 and agent c 2 -> 0 in one corridor, both at cost 2: they must swap.
+        let c = Mdd::build(&g, 2, 0, 2, &dist(0), &none(0));
+        assert!(dependent(&g, &a, &c));
+        // A longer c cannot leave the corridor before a passes; a longer a can step aside into
+        // 4 (0, 1, 4, 1, 2) while c (2, 2, 1, 0) goes by.
+        let c4 = Mdd::build(&g, 2, 0, 4, &dist(0), &none(0));
+        assert!(dependent(&g, &a, &c4));
+        let a4 = Mdd::build(&g, 0, 2, 4, &dist(2), &none(2));
+        let c3 = Mdd::build(&g, 2, 0, 3, &dist(0), &none(0));
+        assert!(!dependent(&g, &a4, &c3));
+    }
+}
