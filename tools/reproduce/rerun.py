@@ -242,6 +242,9 @@ def is_timing(header):
 
 
 def norm_header(h):
+    """A header as matched: bold, escapes and spacing do not count, nor a "#2" suffix (how a
+    recipe names the second column of a repeated header)."""
+    h = re.sub(r"#\d+$", "", h)
     return re.sub(r"\s+", " ", h.replace("**", "").replace("\\|", "|").replace("\\*", "*")).strip()
 
 
@@ -426,7 +429,7 @@ class Marker:
             if not src.startswith("py:"):
                 out.append(shlex.split(src)[0])
             for text in [src] + ops:
-                out.extend(re.findall(r"(?:md|csv|tables)\(\s*[\"']([^\"']+)[\"']", text))
+                out.extend(re.findall(r"(?:md|csv|tables|text|matches)\(\s*[\"']([^\"']+)[\"']", text))
         return list(dict.fromkeys(out))
 
 
@@ -532,6 +535,13 @@ class Env:
     def csv(self, path):
         return read_csv_table(self.path(path))
 
+    def text(self, path):
+        return self.path(path).read_text(encoding="utf-8")
+
+    def matches(self, path, regex):
+        """The named groups of every match of `regex` (multi-line) in a text file, as rows."""
+        return [m.groupdict() for m in re.finditer(regex, self.text(path), re.M)]
+
     def tables(self, path):
         return parse_tables(self.path(path).read_text(encoding="utf-8"), str(path))
 
@@ -540,6 +550,8 @@ class Env:
             "md": self.md,
             "csv": self.csv,
             "tables": self.tables,
+            "text": self.text,
+            "matches": self.matches,
             "num": num,
             "nums": nums,
             "fmt": fmt,
@@ -697,7 +709,8 @@ def split_commands(block):
 
 
 def is_cargo(cmd, verb):
-    return re.match(rf"^\s*cargo\s+{verb}\b", cmd) is not None
+    """Whether a command runs `cargo VERB` (first, or after &&, ; or a pipe)."""
+    return re.search(rf"(^|&&|;|\|)\s*cargo\s+{verb}\b", cmd) is not None
 
 
 class Writeup:
@@ -864,7 +877,9 @@ def compare_writeup(w, root, partial, out=sys.stdout):
             counts["error"] += 1
             print(f"   ERROR      {where}: {type(e).__name__}: {e}", file=out)
             continue
-        src = "; ".join(s for s, _ in m.sources)
+        src = re.sub(r"\s+", " ", "; ".join(s for s, _ in m.sources))
+        if len(src) > 100:
+            src = src[:97] + "..."
         if problems:
             counts["differ"] += 1
             print(f"   DIFFERS    {where} vs {src}:", file=out)
