@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Re-run the reproduction write-ups and diff their tables (Python 3 standard library only).
+r"""Re-run the reproduction write-ups and diff their tables (Python 3 standard library only).
 
 Usage:
   python3 tools/reproduce/rerun.py [--only hstar,ga-formation] [--workdir DIR] [--mrpp PATH]
@@ -38,33 +38,42 @@ between the previous table (or the start) and the table, names; GitHub does not 
 
   <!-- rerun: out/hstar-table2/table2.md table 2 -->
 
-The body is a list of clauses separated by ";" or new lines (outside quotes and brackets):
+The body is a list of clauses, one a line (or separated by ";"; a line starting with "|"
+continues the previous clause, a line starting with "#" is a comment, new lines inside brackets
+do not end a clause):
 
   SOURCE [| OP]...        rows of the generated table; several such clauses are concatenated
                           in order ("rows from A, then B")
+  let NAME = EXPR         a Python value (often a lambda) for the expressions that follow
   ignore cols: A, "B, c"  doc columns not compared (labels, the paper's own values); the
                           reason may follow " -- "
   ignore rows: 9, 10      doc rows (1-based) not compared, likewise
-  derived: HOW            the table is not diffed: HOW says how it was made (listed as
-                          "not diffed" with that reason)
+  derived: HOW            the whole marker: the table is not diffed, HOW says how it was made
+                          (listed as "not diffed" with that reason)
 
 SOURCE is PATH (relative to the run folder) of a Markdown page, optionally followed by
 `under "TEXT"` (the tables after the first line containing TEXT; repeatable, each searched after
 the previous) and `table N` (the N-th table from there, default 1); or PATH of a .csv file (the
 whole file as one table); or `py: EXPR`, a Python expression giving a Table or a list of dicts
-(see the helpers in `NAMESPACE`: md(), csv(), num(), fmt(), pct(), ...).
+(header -> cell). Expressions see the helpers of `Env.namespace`: md(path, table=1, under=None),
+csv(path), tables(path), text(path), matches(path, regex) (the named groups of every match, as
+rows), num(cell), nums(cell), fmt(x, d), pct(x, d), signed_pct(x, d), mean(xs), table(dicts);
+a table's .dicts(), .col(name), .get(header=value, ...) and .where(...) read it. A repeated
+header is reached as "name#2" (and a generated column named "name#2" pairs with the doc's second
+"name").
 
 OP is one of
   where EXPR               keep rows for which EXPR (Python; `c` is the row, header -> cell,
                            `i` its 1-based index) is true
   cols A, B as "X", C      keep these columns in this order, optionally renamed
+  rename A as "X", ...     rename columns, keep all
   set "NAME" = EXPR        add (or replace) a column computed per row (EXPR as for where)
   rows 1-3,5               keep rows by position (1-based)
-  sub "REGEX" => "REPL"    re.sub on every cell (e.g. sub "^0\\.000$" => "< 0.001")
+  sub "REGEX" => "REPL"    re.sub on every cell (e.g. sub "^0\.000$" => "< 0.001")
 
 Comparison: doc columns are looked up by header in the generated table (extra generated
 columns are ignored, repeated headers pair up in order); rows are compared in order and must be
-as many. Cells are compared after normalising: bold markers, "\\|", the Unicode minus,
+as many. Cells are compared after normalising: bold markers, "\|", the Unicode minus,
 thousands separators ("3 737", "1,330") and the number format ("100" = "100.0") do not count.
 Timing columns: a header that names a time unit or a clock (s, ms, seconds, time, wall, CPU,
 runtime, minutes, hours; "time steps" is not one) is not compared.
@@ -72,12 +81,10 @@ runtime, minutes, hours; "time steps" is not one) is not compared.
 
 import argparse
 import csv as csv_module
-import io
 import math
 import os
 import re
 import shlex
-import shutil
 import subprocess
 import sys
 import tempfile
@@ -1042,7 +1049,7 @@ def self_test():
 
 def main(argv):
     ap = argparse.ArgumentParser(
-        prog="rerun.py", description="Re-run the reproduction write-ups' 'How to re-run' blocks and diff their tables."
+        prog="rerun.py", description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter
     )
     ap.add_argument("--only", help="comma-separated write-ups (default: " + ",".join(WRITEUPS) + ")")
     ap.add_argument("--workdir", help="scratch root; each write-up runs in WORKDIR/<name> (default: a new temp dir)")
