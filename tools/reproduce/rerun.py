@@ -295,11 +295,7 @@ def diff_tables(doc, gen, ignore_cols=(), ignore_rows=()):
         cols.append((k, g, h))
     if dropped:
         notes.append("timing columns left out: " + ", ".join(dropped))
-    if ignore_cols:
-        notes.append("columns not compared: " + ", ".join(ignore_cols))
     rows = [(k, r) for k, r in enumerate(doc.rows, 1) if k not in ignore_rows]
-    if ignore_rows:
-        notes.append("rows not compared: " + ", ".join(str(k) for k in sorted(ignore_rows)))
     if len(rows) != len(gen.rows):
         problems.append(f"{len(rows)} rows in the doc, {len(gen.rows)} generated")
     for (k, drow), grow in zip(rows, gen.rows):
@@ -416,13 +412,14 @@ class Marker:
                 continue
             m = re.match(r"^ignore\s+(cols|columns|rows)\s*:\s*(.*)$", c, re.S)
             if m:
-                what, _, rest = m.group(2).partition(" -- ")
+                what, _, why = m.group(2).partition(" -- ")
                 if m.group(1) == "rows":
                     self.ignore_rows.update(parse_index_list(what))
+                    note = "rows not compared: " + what.strip()
                 else:
                     self.ignore_cols.extend(parse_names(what))
-                if rest:
-                    self.reasons.append(rest.strip())
+                    note = "columns not compared: " + what.strip()
+                self.reasons.append(note + (f" ({why.strip()})" if why.strip() else ""))
                 continue
             parts = split_top(c, " | ")
             self.sources.append((parts[0].strip(), [p.strip() for p in parts[1:]]))
@@ -878,7 +875,8 @@ def compare_writeup(w, root, partial, out=sys.stdout):
         except FileNotFoundError as e:  # a path the marker builds in an expression
             counts["missing"] += 1
             tag = "NOT CHECKED" if partial else "MISSING"
-            print(f"   {tag:<10} {where}: output missing: {e.filename}", file=out)
+            missing = os.path.relpath(e.filename, root) if e.filename else str(e)
+            print(f"   {tag:<10} {where}: output missing: {missing}", file=out)
             continue
         except Exception as e:  # a marker that does not fit its output is a difference too
             counts["error"] += 1
@@ -985,7 +983,6 @@ def self_test():
     m2 = tm[1][1]
     check("two sources", [s for s, _ in m2.sources], ["out/b.csv", "out/c.csv"])
     check("ignore rows", m2.ignore_rows, {3})
-    check("reason", m2.reasons, ["the paper's row"])
     check("paths", m2.paths(), ["out/b.csv", "out/c.csv"])
     check("derived", tm[3][1].derived, "by hand")
     check("names", parse_names('A, "B, c", \'D\''), ["A", "B, c", "D"])
@@ -1006,7 +1003,7 @@ def self_test():
         check("concatenated", g2.rows, [["a", "1"], ["b", "2.0"]])
         probs, notes = diff_tables(tm[1][0], g2, m2.ignore_cols, m2.ignore_rows)
         check("marker 2 matches, timing and paper row left out", probs, [])
-        check("notes", notes, ["timing columns left out: s", "rows not compared: 3"])
+        check("notes", notes + m2.reasons, ["timing columns left out: s", "rows not compared: 3 (the paper's row)"])
         under = env.md("out/a/t.md", under="## Sec")
         check("under", under.headers, ["k", "v, w", "ms"])
         t = env.op(env.op(under, "set \"sum\" = fmt(num(c['v, w']) + 1, 0)"), "sub \"^x$\" => \"y\"")
