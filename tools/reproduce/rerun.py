@@ -801,8 +801,8 @@ def run_block(w, args, dest):
     log = open(meta / "run.log", "w", encoding="utf-8")
     total0 = time.time()
     proc = subprocess.Popen(
-        ["bash", str(meta / "block.sh")], stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
-        errors="replace",
+        ["bash", str(meta / "block.sh")], stdin=subprocess.DEVNULL, stdout=subprocess.PIPE,
+        stderr=subprocess.STDOUT, text=True, errors="replace",
     )
     for line in proc.stdout:
         log.write(line)
@@ -811,7 +811,7 @@ def run_block(w, args, dest):
             print(f"   #{k} {first_line(w.commands[k - 1][1])}", flush=True)
         elif line.startswith("@@rerun end"):
             _, _, k, rc, t0, t1 = line.split()
-            secs = float(t1) - float(t0)
+            secs = float(t1.replace(",", ".")) - float(t0.replace(",", "."))  # a locale's decimal comma
             times.append((int(k), int(rc), secs))
             print(f"      exit {rc}, {secs:.1f} s", flush=True)
         elif args.verbose:
@@ -1009,6 +1009,23 @@ def self_test():
         t = env.op(env.op(under, "set \"sum\" = fmt(num(c['v, w']) + 1, 0)"), "sub \"^x$\" => \"y\"")
         check("set and sub", t.rows, [["a", "1.0", "3", "2"], ["y", "5", "4", "6"]])
         check("rows op", env.op(t, "rows 2").rows, [["y", "5", "4", "6"]])
+        check("rename op", env.op(under, 'rename "v, w" as v, ms as t').headers, ["k", "v", "t"])
+        Path(d, "out", "log.txt").write_text("x\nhbmo: 9 arrived, 1 deadlocks\nde: 8 arrived, 2 deadlocks\n")
+        lm = Marker(
+            "# a comment line\nlet get = lambda p: matches(p, r'(?P<planner>\\w+): (?P<arrived>\\d+) arrived')\n"
+            "let twice = lambda p: [dict(r, n=2 * int(r['arrived'])) for r in get(p)]\npy: twice('out/log.txt')\n"
+            "  | rename n as \"2x\"",
+            1,
+        )
+        check("comments", lm.comments, ["a comment line"])
+        check("let, matches, continuation", (env.build(lm).headers, env.build(lm).rows),
+              (["planner", "arrived", "2x"], [["hbmo", "9", "18"], ["de", "8", "16"]]))
+        check("let paths", lm.paths(), [])
+        try:
+            env.build(Marker("out/none.md", 1))
+            check("missing file raises", False, True)
+        except FileNotFoundError:
+            pass
         py = Marker("py: [{'k': r['k'], 'v': r['v, w']} for r in md('out/a/t.md', under='## Sec').dicts()]", 1)
         check("py source", env.build(py).rows, [["a", "1.0"], ["x", "5"]])
         check("py paths", py.paths(), ["out/a/t.md"])
