@@ -263,6 +263,10 @@ fn a_lifelong_run_can_be_watched() {
     let html = std::fs::read_to_string(&page).unwrap();
     assert!(html.contains(r#""family":"lifelong""#));
     assert!(
+        !html.contains(r#""unit":"#),
+        "a run in steps is counted in steps"
+    );
+    assert!(
         html.contains(r#""valid":true"#),
         "the run is shown as valid"
     );
@@ -522,6 +526,16 @@ fn a_run_in_ticks_under_delays_is_written_validated_and_bad_settings_are_refused
     assert_eq!(code, Some(0), "{stdout}{err}");
     let html = std::fs::read_to_string(&page).unwrap();
     assert!(html.contains("\"held\":[["), "no delay marked in the page");
+    // The page counts the run's time in ticks: its info line says "400 ticks", not "400 steps".
+    assert!(
+        html.contains(r#""unit":"tick""#),
+        "the scene is not in ticks"
+    );
+    assert!(
+        html.contains("const unit = scene.unit || \"step\";")
+            && html.contains("${steps} ${unit}s |"),
+        "the page does not name its unit"
+    );
     // Robots are drawn part way along their moves (3 ticks an action: a third of a cell a
     // tick), not on cells only.
     assert!(
