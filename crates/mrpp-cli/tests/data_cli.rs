@@ -279,3 +279,53 @@ fn from_local_archives_and_folders() {
         "{err}"
     );
 }
+
+/// `--progress plain` reports each stage of an unpacking in plain lines on stderr (archive
+/// entries unpacked, files verified, files written); the default (stderr not a terminal) and
+/// `--quiet` print none.
+#[test]
+fn plain_progress_reports_unpacking_verifying_and_writing() {
+    let dir = tmp("progress");
+    let archive = dir.join("mine.zip");
+    let files: Vec<(String, Vec<u8>)> = FILES[..3]
+        .iter()
+        .map(|n| (format!("some/folder/{n}"), original(n)))
+        .collect();
+    std::fs::write(&archive, zip_of(&files)).unwrap();
+    let get = |into: &str, extra: &[&str]| {
+        let into = dir.join(into);
+        let mut args = vec![
+            "data",
+            "get",
+            "movingai",
+            "--from",
+            archive.to_str().unwrap(),
+            "--into",
+            into.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        mrpp_exits(&args, 0)
+    };
+    let (out, err) = get("plain", &["--progress", "plain"]);
+    assert!(out.contains("3 file(s) written"), "{out}");
+    for line in [
+        "unpack mine.zip: 3/3 entries",
+        "verify: 3/3 files",
+        "write: 3/3 files",
+    ] {
+        assert!(
+            err.lines().any(|l| l.starts_with('[') && l.ends_with(line)),
+            "no `{line}` line: {err}"
+        );
+    }
+    // A second run writes nothing: no write stage.
+    let (_, err) = get("plain", &["--progress", "plain"]);
+    assert!(
+        err.contains("verify: 3/3 files") && !err.contains("write:"),
+        "{err}"
+    );
+    let (_, err) = get("auto", &[]);
+    assert!(err.is_empty(), "{err}");
+    let (_, err) = get("quiet", &["--progress", "plain", "--quiet"]);
+    assert!(err.is_empty(), "{err}");
+}
