@@ -34,61 +34,14 @@ import os
 import sys
 import tempfile
 
+# The map and scenario readers are shared with tracker.py (tools/check/gridfiles.py, stdlib only),
+# found through this script's own folder wherever it is run from.
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
+from gridfiles import Invalid, read_map, read_scen, read_text  # noqa: E402
+
 STEP = {"U": (1, 0), "D": (-1, 0), "L": (0, -1), "R": (0, 1), "W": (0, 0), "T": (0, 0)}
 DIRECTIONS = {"E", "N", "W", "S", "N/A"}
-
-
-class Invalid(Exception):
-    """The plan (or an input it depends on) breaks a rule; the message says which."""
-
-
-def read_text(path):
-    try:
-        with open(path, "rb") as f:
-            return f.read().decode("utf-8-sig")
-    except OSError as e:
-        raise Invalid(f"cannot read {path}: {e.strerror}")
-    except UnicodeDecodeError:
-        raise Invalid(f"{path}: not UTF-8 text")
-
-
-def read_map(path):
-    """The set of free (row, col) cells."""
-    lines = read_text(path).replace("\r", "").split("\n")
-    if lines and lines[0].startswith("type"):
-        header = {}
-        k = 1
-        while k < len(lines) and lines[k].strip() != "map":
-            parts = lines[k].split()
-            if len(parts) == 2:
-                header[parts[0]] = parts[1]
-            k += 1
-        try:
-            w, h = int(header["width"]), int(header["height"])
-        except (KeyError, ValueError):
-            raise Invalid(f"{path}: MovingAI header without width/height")
-        rows = lines[k + 1:k + 1 + h]
-        return {(r, c) for r, row in enumerate(rows) for c, ch in enumerate(row[:w]) if ch in ".GSE"}
-    while lines and lines[-1] == "":
-        lines.pop()
-    w = max((len(r) for r in lines), default=0)
-    return {(r, c) for r, row in enumerate(lines) for c in range(w)
-            if (row[c] if c < len(row) else " ") in " ."}
-
-
-def read_scen(path):
-    """[(start, goal)] as (row, col)."""
-    out = []
-    for no, line in enumerate(read_text(path).splitlines(), 1):
-        if not line.strip() or line.startswith("version"):
-            continue
-        f = line.split("\t") if "\t" in line else line.split()
-        try:
-            sx, sy, gx, gy = (int(v) for v in f[4:8])
-        except ValueError:
-            raise Invalid(f"{path}:{no}: not a MovingAI scenario line")
-        out.append(((sy, sx), (gy, gx)))
-    return out
 
 
 def need(d, key, kind):
@@ -214,8 +167,11 @@ def check(free, d, scen):
 
 def check_files(map_path, plan_path, scen_path=None):
     try:
-        free = read_map(map_path)
-        scen = read_scen(scen_path) if scen_path else None
+        # PlanViz's cells are (row, col); the readers' are (x, y).
+        free = {(y, x) for x, y in read_map(map_path)[0]}
+        scen = None
+        if scen_path:
+            scen = [((sy, sx), (gy, gx)) for (sx, sy), (gx, gy) in read_scen(scen_path)]
         try:
             d = json.loads(read_text(plan_path))
         except json.JSONDecodeError as e:

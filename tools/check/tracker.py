@@ -39,71 +39,13 @@ import os
 import sys
 import tempfile
 
+# The map and scenario readers are shared with planviz.py (tools/check/gridfiles.py, stdlib only),
+# found through this script's own folder wherever it is run from.
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.dont_write_bytecode = True  # no __pycache__ in the source tree
+from gridfiles import Invalid, read_map, read_scen, read_text  # noqa: E402
+
 MOVES = {"l": (-1, 0), "r": (1, 0), "u": (0, 1), "d": (0, -1), "w": (0, 0)}
-
-
-class Invalid(Exception):
-    """The result (or an input it depends on) breaks a rule; the message says which."""
-
-
-def read_text(path):
-    try:
-        with open(path, "rb") as f:
-            return f.read().decode("utf-8-sig")
-    except OSError as e:
-        raise Invalid(f"cannot read {path}: {e.strerror}")
-    except UnicodeDecodeError:
-        raise Invalid(f"{path}: not UTF-8 text")
-
-
-def read_map(path):
-    """The set of free (x, y) cells and (width, height)."""
-    lines = read_text(path).replace("\r", "").split("\n")
-    if lines and lines[0].startswith("type"):
-        header = {}
-        k = 1
-        while k < len(lines) and lines[k].strip() != "map":
-            parts = lines[k].split()
-            if len(parts) == 2:
-                header[parts[0]] = parts[1]
-            k += 1
-        try:
-            w, h = int(header["width"]), int(header["height"])
-        except (KeyError, ValueError):
-            raise Invalid(f"{path}: MovingAI header without width/height")
-        rows = lines[k + 1:k + 1 + h]
-        if len(rows) < h:
-            raise Invalid(f"{path}: {len(rows)} map rows, header says {h}")
-        free = {(x, y) for y, row in enumerate(rows) for x, c in enumerate(row[:w]) if c in ".GSE"}
-        return free, (w, h)
-    rows = [r for r in lines if r.strip() != "" or r == ""]
-    while rows and rows[-1] == "":
-        rows.pop()
-    w = max((len(r) for r in rows), default=0)
-    free = set()
-    for y, row in enumerate(rows):
-        for x in range(w):
-            c = row[x] if x < len(row) else " "
-            if c in " .":
-                free.add((x, y))
-    return free, (w, len(rows))
-
-
-def read_scen(path):
-    """[(start, goal)] of the scenario, cells as (x, y)."""
-    agents = []
-    for no, line in enumerate(read_text(path).splitlines(), 1):
-        if not line.strip() or line.startswith("version"):
-            continue
-        f = line.split("\t") if "\t" in line else line.split()
-        if len(f) < 8:
-            raise Invalid(f"{path}:{no}: a scenario line has 9 fields, found {len(f)}")
-        try:
-            sx, sy, gx, gy = (int(v) for v in f[4:8])
-        except ValueError:
-            raise Invalid(f"{path}:{no}: coordinates are not integers")
-        agents.append(((sx, sy), (gx, gy)))
-    return agents
 
 
 def check_row(free, agents, row, where):

@@ -367,6 +367,7 @@ pub(crate) fn scene(inputs: &Inputs, record_path: &std::path::Path) -> Result<Va
         "family": "execution",
         "title": format!("{} | {} | delays {}", file_name(record_path), record["executor"].as_str().unwrap_or("?"), record["delays"].as_str().unwrap_or("?")),
         "about": "",
+        "unit": "tick",
         "bounds": [0.0, 0.0, f64::from(map.width()), f64::from(map.height())],
         "y_up": false,
         "cells": {"width": map.width(), "height": map.height(), "rows": crate::grid_family::scene_rows(&map)},

@@ -60,8 +60,9 @@ struct Cli {
     /// memory). A planner that reaches it stops as at its time limit: exit 3, "memory limit".
     #[arg(long, global = true, value_name = "MB", allow_negative_numbers = true, value_parser = output::parse_count)]
     memory_limit: Option<usize>,
-    /// How a planner's progress is shown on stderr: auto (a spinner or bar on a terminal),
-    /// plain (a line every half second, for logs), none.
+    /// How a planner's progress (and `data get`'s downloads, unpacking, checks and writes) is
+    /// shown on stderr: auto (a spinner or bar on a terminal), plain (a line every half second,
+    /// for logs), none.
     #[arg(long, global = true, value_enum, default_value = "auto")]
     progress: progress::Mode,
 }

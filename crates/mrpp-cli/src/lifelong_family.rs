@@ -478,7 +478,7 @@ fn scene(inputs: &Inputs, plan: &Path) -> Result<Value, Fail> {
         })
         .collect();
     let rows = crate::grid_family::scene_rows(map);
-    Ok(json!({
+    let mut scene = json!({
         "family": mrpp_lifelong::FAMILY,
         "title": format!("{} | {}", file_name(&problem.files().path), file_name(plan)),
         "about": read.about,
@@ -489,7 +489,12 @@ fn scene(inputs: &Inputs, plan: &Path) -> Result<Value, Fail> {
         "agents": agents,
         "series": {"name": "tasks finished", "values": finished},
         "verdict": verdict,
-    }))
+    });
+    if read.plan.ticks.is_some() {
+        // The page counts the run's time in ticks, not steps.
+        scene["unit"] = json!("tick");
+    }
+    Ok(scene)
 }
 
 /// Steps over which `render`'s throughput panel averages.

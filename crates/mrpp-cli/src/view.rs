@@ -5,6 +5,8 @@
 //!
 //! ```text
 //! { "family", "title", "about",
+//!   "unit": "tick"                       runs in ticks (lifelong --ticks, `mrpp execute` records);
+//!                                        absent: a path index is a "step"
 //!   "bounds": [x0, y0, x1, y1],          world units; "y_up": true flips the y axis
 //!   "cells": {"width", "height", "rows": ["#..", ...]}      grids: '#' blocked
 //!   "polygons": [[[x, y], ...], ...],    obstacles

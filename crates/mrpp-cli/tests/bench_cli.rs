@@ -4,33 +4,14 @@
 
 mod common;
 
+use common::{mrpp_exits, root};
 use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
 
 fn tmp(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("mrpp-bench-test-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
-}
-
-/// Runs mrpp from the repository root; asserts the exit code; returns stdout and stderr.
-fn mrpp(args: &[&str], code: i32) -> (String, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_mrpp"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .unwrap();
-    let (out, err) = (
-        String::from_utf8_lossy(&o.stdout).into_owned(),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    );
-    assert_eq!(o.status.code(), Some(code), "mrpp {args:?}\n{out}\n{err}");
-    (out, err)
 }
 
 /// A CSV file without its wall-clock columns.
@@ -78,12 +59,12 @@ fn sharded_paper_table_merges_to_the_whole() {
     for shard in ["1/3", "2/3", "3/3"] {
         let mut a = base.to_vec();
         a.extend(["--shard", shard, "--out", s(&parts)]);
-        mrpp(&a, 0);
+        mrpp_exits(&a, 0);
     }
     let mut a = base.to_vec();
     a.extend(["--out", s(&whole)]);
-    mrpp(&a, 0);
-    let (out, _) = mrpp(&["bench", "merge", "--out", s(&merged), s(&parts)], 0);
+    mrpp_exits(&a, 0);
+    let (out, _) = mrpp_exits(&["bench", "merge", "--out", s(&merged), s(&parts)], 0);
     assert!(out.contains("merged 5 jobs"), "{out}");
     for f in ["results.csv", "records.csv"] {
         assert_eq!(
@@ -102,7 +83,7 @@ fn sharded_paper_table_merges_to_the_whole() {
     let empty = dir.join("empty");
     std::fs::create_dir_all(&empty).unwrap();
     let again = dir.join("again");
-    let (_, err) = mrpp(
+    let (_, err) = mrpp_exits(
         &["bench", "merge", "--out", s(&again), s(&parts), s(&empty)],
         1,
     );
@@ -110,12 +91,12 @@ fn sharded_paper_table_merges_to_the_whole() {
         err.contains("empty: no part-i-of-N.jsonl files in this folder"),
         "{err}"
     );
-    let (_, err) = mrpp(&["bench", "merge", "--out", s(&parts), s(&parts)], 1);
+    let (_, err) = mrpp_exits(&["bench", "merge", "--out", s(&parts), s(&parts)], 1);
     assert!(err.contains("input folder"), "{err}");
     // A missing shard is named, and nothing is written.
     std::fs::remove_file(parts.join("part-2-of-3.jsonl")).unwrap();
     let again = dir.join("again");
-    let (_, err) = mrpp(&["bench", "merge", "--out", s(&again), s(&parts)], 1);
+    let (_, err) = mrpp_exits(&["bench", "merge", "--out", s(&again), s(&parts)], 1);
     assert!(err.contains("jobs are in no part"), "{err}");
     assert!(!again.join("results.csv").exists());
     let _ = std::fs::remove_dir_all(&dir);
@@ -126,9 +107,9 @@ fn toml_sweep_shards_merge_and_bad_configs_are_named() {
     let dir = tmp("toml");
     let config = "bench/configs/example.toml";
     let (parts, whole, merged) = (dir.join("parts"), dir.join("whole"), dir.join("merged"));
-    mrpp(&["bench", "run", "--config", config, "--out", s(&whole)], 0);
+    mrpp_exits(&["bench", "run", "--config", config, "--out", s(&whole)], 0);
     for shard in ["1/2", "2/2"] {
-        mrpp(
+        mrpp_exits(
             &[
                 "bench",
                 "run",
@@ -142,7 +123,7 @@ fn toml_sweep_shards_merge_and_bad_configs_are_named() {
             0,
         );
     }
-    mrpp(&["bench", "merge", "--out", s(&merged), s(&parts)], 0);
+    mrpp_exits(&["bench", "merge", "--out", s(&merged), s(&parts)], 0);
     let records = without_timing(&merged.join("records.csv"));
     assert_eq!(without_timing(&whole.join("records.csv")), records);
     assert_eq!(records.lines().count(), 1 + 3 * 3 * 2, "{records}");
@@ -156,7 +137,7 @@ fn toml_sweep_shards_merge_and_bad_configs_are_named() {
         "name = \"x\"\n\n[[planners]]\nname = \"hstar\"\nwidow = 3\n",
     )
     .unwrap();
-    let (_, err) = mrpp(
+    let (_, err) = mrpp_exits(
         &[
             "bench",
             "run",
@@ -203,7 +184,7 @@ fn a_peer_command_joins_the_sweep_and_an_interrupted_run_resumes() {
         "--out",
         s(&out),
     ];
-    mrpp(&args, 0);
+    mrpp_exits(&args, 0);
     let records = std::fs::read_to_string(out.join("records.csv")).unwrap();
     assert_eq!(records.lines().count(), 1 + 2 * 2 * 2, "{records}");
     let peer_rows: Vec<&str> = records
@@ -250,12 +231,12 @@ fn a_peer_command_joins_the_sweep_and_an_interrupted_run_resumes() {
     kept.push_str(&lines[3][..10]);
     std::fs::write(&progress, kept).unwrap();
     std::fs::remove_file(out.join("records.csv")).unwrap();
-    let (stdout, _) = mrpp(&args, 0);
+    let (stdout, _) = mrpp_exits(&args, 0);
     assert!(
         stdout.contains("resuming: 3 of 8 jobs already done"),
         "{stdout}"
     );
-    let (stdout, _) = mrpp(&args, 0);
+    let (stdout, _) = mrpp_exits(&args, 0);
     assert!(
         stdout.contains("resuming: 8 of 8 jobs already done"),
         "{stdout}"
@@ -265,7 +246,7 @@ fn a_peer_command_joins_the_sweep_and_an_interrupted_run_resumes() {
         records.lines().count()
     );
     // A bad template is named before anything runs.
-    let (_, err) = mrpp(
+    let (_, err) = mrpp_exits(
         &[
             "bench",
             "run",
@@ -295,7 +276,7 @@ fn a_broken_peer_command_warns_is_recorded_and_stops_the_sweep() {
     let dir = tmp("broken-peer");
     let out = dir.join("out");
     let run = |peer: &str, code: i32| {
-        mrpp(
+        mrpp_exits(
             &[
                 "bench",
                 "run",
@@ -356,12 +337,12 @@ fn a_broken_peer_command_warns_is_recorded_and_stops_the_sweep() {
 #[test]
 fn movingai_full_counts_13900_jobs_without_the_data() {
     let config = "bench/configs/movingai-full.toml";
-    let (out, _) = mrpp(&["bench", "run", "--config", config, "--dry-run"], 0);
+    let (out, _) = mrpp_exits(&["bench", "run", "--config", config, "--dry-run"], 0);
     assert!(out.contains("13900 jobs (825 instance specs"), "{out}");
     let mut total = 0;
     for i in 1..=7 {
         let shard = format!("{i}/7");
-        let (out, _) = mrpp(
+        let (out, _) = mrpp_exits(
             &[
                 "bench",
                 "run",
@@ -392,12 +373,12 @@ fn movingai_full_counts_13900_jobs_without_the_data() {
         "[[instances]]\nmap = \"nowhere.map\"\nscen = \"nowhere-random-{k}.scen\"\nscens = \"1..=2\"\nagents = \"10..=20 step 10\"\n[[planners]]\nname = \"lacam\"\n",
     )
     .unwrap();
-    let (out, _) = mrpp(&["bench", "run", "--config", s(&cfg), "--dry-run"], 0);
+    let (out, _) = mrpp_exits(&["bench", "run", "--config", s(&cfg), "--dry-run"], 0);
     assert!(
         out.contains("4 jobs") && out.contains("3 of the 3"),
         "{out}"
     );
-    let (_, err) = mrpp(
+    let (_, err) = mrpp_exits(
         &[
             "bench",
             "run",
@@ -432,12 +413,12 @@ fn scens_and_agent_ranges_shard_and_merge() {
     )
     .unwrap();
     let (parts, whole, merged) = (dir.join("parts"), dir.join("whole"), dir.join("merged"));
-    mrpp(
+    mrpp_exits(
         &["bench", "run", "--config", s(&cfg), "--out", s(&whole)],
         0,
     );
     for shard in ["1/3", "2/3", "3/3"] {
-        mrpp(
+        mrpp_exits(
             &[
                 "bench",
                 "run",
@@ -451,7 +432,7 @@ fn scens_and_agent_ranges_shard_and_merge() {
             0,
         );
     }
-    mrpp(&["bench", "merge", "--out", s(&merged), s(&parts)], 0);
+    mrpp_exits(&["bench", "merge", "--out", s(&merged), s(&parts)], 0);
     let records = without_timing(&merged.join("records.csv"));
     assert_eq!(without_timing(&whole.join("records.csv")), records);
     assert_eq!(records.lines().count(), 1 + 2 * 2, "{records}");

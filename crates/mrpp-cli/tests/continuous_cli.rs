@@ -5,30 +5,14 @@
 
 mod common;
 
+use common::{mrpp, root};
 use std::path::PathBuf;
 use std::process::Command;
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
 
 fn tmp(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("mrpp-continuous-test-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     dir.join(name)
-}
-
-fn mrpp(args: &[&str]) -> (i32, String, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_mrpp"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .unwrap();
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stdout).into_owned(),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    )
 }
 
 /// The value after `key ` in a `a 1 | b 2` summary line.
@@ -61,7 +45,7 @@ fn planners_plans_validate_and_render() {
             "--out",
             out.to_str().unwrap(),
         ]);
-        assert_eq!(code, 0, "{planner}: {stdout}{err}");
+        assert_eq!(code, Some(0), "{planner}: {stdout}{err}");
         let (code, valid, err) = mrpp(&[
             "validate",
             "-v",
@@ -70,7 +54,7 @@ fn planners_plans_validate_and_render() {
             "--plan",
             out.to_str().unwrap(),
         ]);
-        assert_eq!(code, 0, "{planner}: {err}");
+        assert_eq!(code, Some(0), "{planner}: {err}");
         assert!(valid.contains("valid: 6 agents"), "{valid}");
         {
             let o = Command::new("python3")
@@ -107,7 +91,7 @@ fn planners_plans_validate_and_render() {
         "--out",
         svg.to_str().unwrap(),
     ]);
-    assert_eq!(code, 0, "{err}");
+    assert_eq!(code, Some(0), "{err}");
     assert!(std::fs::read_to_string(&svg).unwrap().contains("<polyline"));
     // A tampered plan (one robot teleported through an obstacle) is refused with exit 1.
     let text = std::fs::read_to_string(&plan).unwrap();
@@ -116,7 +100,7 @@ fn planners_plans_validate_and_render() {
     let bad = tmp("bad-plan.json");
     std::fs::write(&bad, v.to_string()).unwrap();
     let (code, out, err) = mrpp(&["validate", "--world", w, "--plan", bad.to_str().unwrap()]);
-    assert_eq!(code, 1, "{out}{err}");
+    assert_eq!(code, Some(1), "{out}{err}");
     assert!(err.contains("robot 0"), "{err}");
 }
 
@@ -156,7 +140,7 @@ fn bad_worlds_are_one_line_errors_naming_the_item() {
             "--out",
             out.to_str().unwrap(),
         ]);
-        assert_eq!(code, 1, "{err}");
+        assert_eq!(code, Some(1), "{err}");
         assert_eq!(err.lines().count(), 1, "{err}");
         assert!(
             err.contains(&format!("bad{i}.json")) && err.contains(needle),
@@ -184,7 +168,7 @@ fn a_deadlock_is_reported_as_such_with_exit_3() {
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert_eq!(code, 3, "{stdout}{err}");
+    assert_eq!(code, Some(3), "{stdout}{err}");
     assert!(
         stdout.contains("deadlock") || err.contains("deadlock"),
         "{stdout}{err}"

@@ -3,34 +3,17 @@
 //! server on 127.0.0.1 in a thread, or unpacked with --from; the files land byte-identical, a
 //! second run is a no-op, and a damaged file fails naming it, with nothing written.
 
+mod common;
+
+use common::{mrpp_exits, root};
 use std::io::{BufRead as _, Write as _};
 use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
 
 fn tmp(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("mrpp-data-test-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     dir
-}
-
-/// Runs mrpp; asserts the exit code; returns stdout and stderr.
-fn mrpp(args: &[&str], code: i32) -> (String, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_mrpp"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .unwrap();
-    let (out, err) = (
-        String::from_utf8_lossy(&o.stdout).into_owned(),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    );
-    assert_eq!(o.status.code(), Some(code), "mrpp {args:?}\n{out}\n{err}");
-    (out, err)
 }
 
 /// The benchmark files the archives of these tests hold.
@@ -138,7 +121,7 @@ fn download_from_a_local_server() {
     let url = serve(archives(None));
     let into = tmp("download").join("movingai");
     let into_s = into.to_str().unwrap();
-    let (out, _) = mrpp(
+    let (out, _) = mrpp_exits(
         &["data", "get", "movingai", "--url", &url, "--into", into_s],
         0,
     );
@@ -153,7 +136,7 @@ fn download_from_a_local_server() {
             "{name}"
         );
     }
-    let (out, _) = mrpp(
+    let (out, _) = mrpp_exits(
         &["data", "get", "movingai", "--url", &url, "--into", into_s],
         0,
     );
@@ -161,13 +144,13 @@ fn download_from_a_local_server() {
 
     // A file that differs from the archive's is not replaced silently.
     std::fs::write(into.join(FILES[1]), "changed").unwrap();
-    let (_, err) = mrpp(
+    let (_, err) = mrpp_exits(
         &["data", "get", "movingai", "--url", &url, "--into", into_s],
         1,
     );
     assert!(err.contains(FILES[1]) && err.contains("--force"), "{err}");
     assert_eq!(std::fs::read(into.join(FILES[1])).unwrap(), b"changed");
-    mrpp(
+    mrpp_exits(
         &[
             "data", "get", "movingai", "--url", &url, "--into", into_s, "--force",
         ],
@@ -187,7 +170,7 @@ fn damaged_archives_write_nothing() {
     let url = serve(archives(Some("random-32-32-20-even-2.scen")));
     let into = tmp("damaged").join("movingai");
     let into_s = into.to_str().unwrap();
-    let (_, err) = mrpp(
+    let (_, err) = mrpp_exits(
         &["data", "get", "movingai", "--url", &url, "--into", into_s],
         1,
     );
@@ -200,7 +183,7 @@ fn damaged_archives_write_nothing() {
 
     let mut bad = archives(None);
     bad[1].1.truncate(100);
-    let (_, err) = mrpp(
+    let (_, err) = mrpp_exits(
         &[
             "data",
             "get",
@@ -218,7 +201,7 @@ fn damaged_archives_write_nothing() {
     );
     assert!(!into.exists());
 
-    let (_, err) = mrpp(
+    let (_, err) = mrpp_exits(
         &[
             "data",
             "get",
@@ -252,7 +235,7 @@ fn from_local_archives_and_folders() {
     std::fs::create_dir_all(&folder).unwrap();
     std::fs::write(folder.join(FILES[2]), original(FILES[2])).unwrap();
     let into = dir.join("movingai");
-    let (out, err) = mrpp(
+    let (out, err) = mrpp_exits(
         &[
             "data",
             "get",
@@ -279,7 +262,7 @@ fn from_local_archives_and_folders() {
     // Not a zip at all.
     let junk = dir.join("junk.zip");
     std::fs::write(&junk, b"not a zip").unwrap();
-    let (_, err) = mrpp(
+    let (_, err) = mrpp_exits(
         &[
             "data",
             "get",
@@ -295,4 +278,54 @@ fn from_local_archives_and_folders() {
         err.contains("junk.zip") && err.contains("not a readable zip"),
         "{err}"
     );
+}
+
+/// `--progress plain` reports each stage of an unpacking in plain lines on stderr (archive
+/// entries unpacked, files verified, files written); the default (stderr not a terminal) and
+/// `--quiet` print none.
+#[test]
+fn plain_progress_reports_unpacking_verifying_and_writing() {
+    let dir = tmp("progress");
+    let archive = dir.join("mine.zip");
+    let files: Vec<(String, Vec<u8>)> = FILES[..3]
+        .iter()
+        .map(|n| (format!("some/folder/{n}"), original(n)))
+        .collect();
+    std::fs::write(&archive, zip_of(&files)).unwrap();
+    let get = |into: &str, extra: &[&str]| {
+        let into = dir.join(into);
+        let mut args = vec![
+            "data",
+            "get",
+            "movingai",
+            "--from",
+            archive.to_str().unwrap(),
+            "--into",
+            into.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        mrpp_exits(&args, 0)
+    };
+    let (out, err) = get("plain", &["--progress", "plain"]);
+    assert!(out.contains("3 file(s) written"), "{out}");
+    for line in [
+        "unpack mine.zip: 3/3 entries",
+        "verify: 3/3 files",
+        "write: 3/3 files",
+    ] {
+        assert!(
+            err.lines().any(|l| l.starts_with('[') && l.ends_with(line)),
+            "no `{line}` line: {err}"
+        );
+    }
+    // A second run writes nothing: no write stage.
+    let (_, err) = get("plain", &["--progress", "plain"]);
+    assert!(
+        err.contains("verify: 3/3 files") && !err.contains("write:"),
+        "{err}"
+    );
+    let (_, err) = get("auto", &[]);
+    assert!(err.is_empty(), "{err}");
+    let (_, err) = get("quiet", &["--progress", "plain", "--quiet"]);
+    assert!(err.is_empty(), "{err}");
 }

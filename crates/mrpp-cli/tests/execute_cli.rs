@@ -2,24 +2,11 @@
 //! executor (no collision) or naively (collisions, exit 3), writes the executed record, and
 //! refuses bad delay specs, absurd options and a plan of another map: exit 1, nothing written.
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use common::{mrpp, root};
+use std::path::Path;
 use std::process::Command;
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn mrpp(args: &[&str]) -> (Option<i32>, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_mrpp"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .unwrap();
-    (
-        o.status.code(),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    )
-}
 
 const MAP: &str = "data/movingai/random-32-32-20.map";
 
@@ -50,7 +37,8 @@ fn execute(plan: &Path, out: &Path, extra: &[&str]) -> (Option<i32>, String) {
         out.to_str().unwrap(),
     ];
     args.extend_from_slice(extra);
-    mrpp(&args)
+    let (code, _, err) = mrpp(&args);
+    (code, err)
 }
 
 #[test]
@@ -59,7 +47,7 @@ fn a_plan_runs_late_safely_with_the_adg_and_collides_naively() {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let plan = dir.join("plan.json");
-    let (code, err) = mrpp(&[
+    let (code, _, err) = mrpp(&[
         "solve",
         "-m",
         MAP,
@@ -166,7 +154,7 @@ fn a_plan_runs_late_safely_with_the_adg_and_collides_naively() {
         assert!(err.contains(says), "{extra:?}: {err}");
         assert!(!bad.exists());
     }
-    let (code, err) = mrpp(&[
+    let (code, _, err) = mrpp(&[
         "execute",
         "-m",
         "data/movingai/empty-8-8.map",
@@ -185,7 +173,7 @@ fn the_execution_experiment_sweeps_delays_and_executors() {
     let dir = std::env::temp_dir().join(format!("mrpp-execution-exp-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let out = dir.join("exp");
-    let (code, err) = mrpp(&[
+    let (code, _, err) = mrpp(&[
         "experiment",
         "execution",
         "--instance",
@@ -254,7 +242,7 @@ fn the_execution_experiment_sweeps_delays_and_executors() {
         collisions("2") < collisions("0"),
         "2-robust plans collide less when executed naively"
     );
-    let (code, err) = mrpp(&[
+    let (code, _, err) = mrpp(&[
         "experiment",
         "execution",
         "--executors",
@@ -274,7 +262,7 @@ fn a_k_robust_plan_collides_less_when_executed_naively() {
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let plan = dir.join("plan.json");
-    let (code, err) = mrpp(&[
+    let (code, _, err) = mrpp(&[
         "solve",
         "-m",
         MAP,
@@ -334,7 +322,7 @@ fn replanning_on_drift_takes_over_and_the_checker_accepts_the_record() {
     std::fs::create_dir_all(&dir).unwrap();
     let plan = dir.join("plan.json");
     let scen = "data/movingai/random-32-32-20-random-1.scen";
-    let (code, err) = mrpp(&[
+    let (code, _, err) = mrpp(&[
         "solve",
         "-m",
         MAP,

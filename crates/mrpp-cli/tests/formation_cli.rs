@@ -5,30 +5,14 @@
 
 mod common;
 
+use common::{mrpp, root};
 use std::path::{Path, PathBuf};
 use std::process::Command;
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
 
 fn tmp(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("mrpp-formation-test-{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     dir.join(name)
-}
-
-fn mrpp(args: &[&str]) -> (i32, String, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_mrpp"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .unwrap();
-    (
-        o.status.code().unwrap_or(-1),
-        String::from_utf8_lossy(&o.stdout).into_owned(),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    )
 }
 
 /// `c_max` of `validate -v`'s `metrics: {...}` line (every digit; the summary line rounds).
@@ -58,7 +42,7 @@ fn planners_plans_validate_and_agree_with_the_checker() {
             "--out",
             out.to_str().unwrap(),
         ]);
-        assert_eq!(code, 0, "{planner}: {stdout}{err}");
+        assert_eq!(code, Some(0), "{planner}: {stdout}{err}");
         let (code, valid, err) = mrpp(&[
             "validate",
             "-v",
@@ -67,7 +51,7 @@ fn planners_plans_validate_and_agree_with_the_checker() {
             "--plan",
             out.to_str().unwrap(),
         ]);
-        assert_eq!(code, 0, "{planner}: {err}");
+        assert_eq!(code, Some(0), "{planner}: {err}");
         let ours = c_max(&valid);
         let o = Command::new("python3")
             .arg(root().join("tools/check/formation.py"))
@@ -102,7 +86,7 @@ fn planners_plans_validate_and_agree_with_the_checker() {
         "--out",
         svg.to_str().unwrap(),
     ]);
-    assert_eq!(code, 0, "{err}");
+    assert_eq!(code, Some(0), "{err}");
     assert!(std::fs::read_to_string(&svg).unwrap().contains("<polyline"));
 }
 
@@ -146,7 +130,7 @@ fn malformed_polygon_maps_are_one_line_errors() {
         )
         .unwrap();
         let (code, _, err) = mrpp(&["info", "--formation", f.to_str().unwrap()]);
-        assert_eq!(code, 1, "{err}");
+        assert_eq!(code, Some(1), "{err}");
         assert_eq!(err.lines().count(), 1, "{err}");
         assert!(
             err.contains(&format!("bad{i}.txt{line}")) && err.contains(needle),
@@ -169,7 +153,7 @@ fn malformed_polygon_maps_are_one_line_errors() {
         "--planner",
         "ga",
     ]);
-    assert_eq!(code, 1, "{err}");
+    assert_eq!(code, Some(1), "{err}");
     assert!(
         err.contains("walled.json") && err.contains("not in free space"),
         "{err}"
@@ -191,7 +175,7 @@ fn ga_formation_experiment_writes_its_page() {
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert_eq!(code, 0, "{stdout}{err}");
+    assert_eq!(code, Some(0), "{stdout}{err}");
     assert!(
         stdout.contains("| all | 14 |") && stdout.contains("| paper |"),
         "{stdout}"
@@ -257,7 +241,7 @@ fn ga_formation_experiment_takes_a_cost_model() {
         "--out",
         out.to_str().unwrap(),
     ]);
-    assert_eq!(code, 0, "{stdout}{err}");
+    assert_eq!(code, Some(0), "{stdout}{err}");
     let page = std::fs::read_to_string(out.join("ga-formation.md")).unwrap();
     assert!(page.contains("cost model hard"), "{page}");
     let csv = std::fs::read_to_string(out.join("results.csv")).unwrap();
@@ -282,7 +266,7 @@ fn ga_formation_experiment_takes_a_cost_model() {
         "--out",
         tmp("gaf-bad").to_str().unwrap(),
     ]);
-    assert_eq!(code, 1, "{err}");
+    assert_eq!(code, Some(1), "{err}");
     assert!(err.contains("--kappa must be between 0 and 10"), "{err}");
     assert!(!tmp("gaf-bad").exists());
 }

@@ -5,28 +5,14 @@
 //! tampered ones, as `mrpp` does (exit 1 naming file and rule, nothing written, inputs never
 //! overwritten).
 
-use std::path::{Path, PathBuf};
+mod common;
+
+use common::{mrpp, root};
+use std::path::Path;
 use std::process::Command;
 
 const MAP: &str = "data/movingai/random-32-32-20.map";
 const SCEN: &str = "data/movingai/random-32-32-20-random-1.scen";
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn mrpp(args: &[&str]) -> (Option<i32>, String, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_mrpp"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .unwrap();
-    (
-        o.status.code(),
-        String::from_utf8_lossy(&o.stdout).into_owned(),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    )
-}
 
 /// A checker's verdict, or `None` without python3 (CI has it).
 fn checker(script: &str, args: &[&Path]) -> Option<serde_json::Value> {

@@ -3,25 +3,11 @@
 //! checker (`tools/check/lifelong.py`) agree on it; malformed problems are refused naming file,
 //! line and rule, exit 1, nothing written.
 
+mod common;
+
+use common::{mrpp, root};
 use std::path::{Path, PathBuf};
 use std::process::Command;
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
-}
-
-fn mrpp(args: &[&str]) -> (Option<i32>, String, String) {
-    let o = Command::new(env!("CARGO_BIN_EXE_mrpp"))
-        .args(args)
-        .current_dir(root())
-        .output()
-        .unwrap();
-    (
-        o.status.code(),
-        String::from_utf8_lossy(&o.stdout).into_owned(),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    )
-}
 
 fn tmp(name: &str) -> PathBuf {
     let dir = std::env::temp_dir().join(format!("mrpp-lifelong-{}-{name}", std::process::id()));
@@ -276,6 +262,10 @@ fn a_lifelong_run_can_be_watched() {
     assert_eq!(code, Some(0), "{err}");
     let html = std::fs::read_to_string(&page).unwrap();
     assert!(html.contains(r#""family":"lifelong""#));
+    assert!(
+        !html.contains(r#""unit":"#),
+        "a run in steps is counted in steps"
+    );
     assert!(
         html.contains(r#""valid":true"#),
         "the run is shown as valid"
@@ -536,6 +526,16 @@ fn a_run_in_ticks_under_delays_is_written_validated_and_bad_settings_are_refused
     assert_eq!(code, Some(0), "{stdout}{err}");
     let html = std::fs::read_to_string(&page).unwrap();
     assert!(html.contains("\"held\":[["), "no delay marked in the page");
+    // The page counts the run's time in ticks: its info line says "400 ticks", not "400 steps".
+    assert!(
+        html.contains(r#""unit":"tick""#),
+        "the scene is not in ticks"
+    );
+    assert!(
+        html.contains("const unit = scene.unit || \"step\";")
+            && html.contains("${steps} ${unit}s |"),
+        "the page does not name its unit"
+    );
     // Robots are drawn part way along their moves (3 ticks an action: a third of a cell a
     // tick), not on cells only.
     assert!(

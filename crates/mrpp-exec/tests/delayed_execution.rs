@@ -3,18 +3,10 @@
 //! on some of the same runs (so the test can fail). Every execution's record is replayed by
 //! `check`, which must find the collisions the execution reported.
 
-use std::path::Path;
+mod common;
 
-use mrpp_core::{Ctx, solve};
 use mrpp_exec::execute::Ending;
 use mrpp_exec::{DelayConfig, ExecConfig, ExecutorKind, check::check, execute};
-use mrpp_grid::PLANNERS;
-
-fn data(rel: &str) -> std::path::PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../data/movingai")
-        .join(rel)
-}
 
 /// Footprint side: at most 0.5, so that rings and robots following each other round a corner in
 /// lockstep never overlap (module doc of `mrpp_exec::execute`); the naive executor still
@@ -32,15 +24,9 @@ fn adg_never_collides_or_deadlocks_and_naive_does_collide() {
         "poisson:p=0.01,min=2,max=8,duration=gaussian,mean=0.5,std=0.22",
         "bernoulli:p=0.2,min=1,max=2",
     ];
-    let lacam = PLANNERS.iter().find(|e| e.name == "lacam").unwrap();
     let (mut naive_runs, mut naive_colliding) = (0, 0);
     for (map, scen, agents) in cases {
-        let (grid, problem) =
-            mrpp_grid::load_problem(&data(map), &data(scen), Some(agents)).unwrap();
-        let planner = lacam.instantiate(&[]).unwrap();
-        let plan = solve(planner.as_ref(), &problem, &Ctx::default())
-            .unwrap()
-            .plan;
+        let (grid, _, plan) = common::planned(map, scen, agents, "lacam");
         let rings = mrpp_exec::Adg::new(&plan).rotation_cycles();
         eprintln!("{map}: {} rings executed jointly", rings.len());
         for spec in models {
@@ -85,20 +71,12 @@ fn adg_never_collides_or_deadlocks_and_naive_does_collide() {
 
 #[test]
 fn without_delays_both_executors_keep_the_plan_and_its_costs() {
-    let (grid, problem) = mrpp_grid::load_problem(
-        &data("random-32-32-20.map"),
-        &data("random-32-32-20-random-1.scen"),
-        Some(40),
-    )
-    .unwrap();
-    let lacam = PLANNERS.iter().find(|e| e.name == "lacam").unwrap();
-    let plan = solve(
-        lacam.instantiate(&[]).unwrap().as_ref(),
-        &problem,
-        &Ctx::default(),
-    )
-    .unwrap()
-    .plan;
+    let (grid, _, plan) = common::planned(
+        "random-32-32-20.map",
+        "random-32-32-20-random-1.scen",
+        40,
+        "lacam",
+    );
     for counter in [1, 2] {
         for executor in [ExecutorKind::Naive, ExecutorKind::Adg] {
             let cfg = ExecConfig {
@@ -125,20 +103,7 @@ fn without_delays_both_executors_keep_the_plan_and_its_costs() {
 
 #[test]
 fn check_refuses_a_tampered_record() {
-    let (grid, problem) = mrpp_grid::load_problem(
-        &data("empty-8-8.map"),
-        &data("empty-8-8-random-1.scen"),
-        Some(10),
-    )
-    .unwrap();
-    let lacam = PLANNERS.iter().find(|e| e.name == "lacam").unwrap();
-    let plan = solve(
-        lacam.instantiate(&[]).unwrap().as_ref(),
-        &problem,
-        &Ctx::default(),
-    )
-    .unwrap()
-    .plan;
+    let (grid, _, plan) = common::planned("empty-8-8.map", "empty-8-8-random-1.scen", 10, "lacam");
     let cfg = ExecConfig {
         executor: ExecutorKind::Adg,
         ticks_per_move: 3,
@@ -195,20 +160,12 @@ fn check_refuses_a_tampered_record() {
 fn tpg_executes_ring_free_plans_as_the_adg_and_stops_at_a_ring() {
     let (mut ring_free, mut ringed) = (0, 0);
     for (name, agents) in [("eecbs", 30), ("lacam", 60)] {
-        let (grid, problem) = mrpp_grid::load_problem(
-            &data("random-32-32-20.map"),
-            &data("random-32-32-20-random-1.scen"),
-            Some(agents),
-        )
-        .unwrap();
-        let entry = PLANNERS.iter().find(|e| e.name == name).unwrap();
-        let plan = solve(
-            entry.instantiate(&[]).unwrap().as_ref(),
-            &problem,
-            &Ctx::default(),
-        )
-        .unwrap()
-        .plan;
+        let (grid, _, plan) = common::planned(
+            "random-32-32-20.map",
+            "random-32-32-20-random-1.scen",
+            agents,
+            name,
+        );
         let rings = mrpp_exec::Adg::new(&plan).rotation_cycles();
         for seed in 0..40u64 {
             let cfg = |executor| ExecConfig {
@@ -250,12 +207,7 @@ fn tpg_executes_ring_free_plans_as_the_adg_and_stops_at_a_ring() {
         }
     }
     // A ring by hand: four robots turning round a 2 x 2 block at step 0.
-    let (empty, _) = mrpp_grid::load_problem(
-        &data("empty-8-8.map"),
-        &data("empty-8-8-random-1.scen"),
-        Some(1),
-    )
-    .unwrap();
+    let (empty, _) = common::bundled("empty-8-8.map", "empty-8-8-random-1.scen", 1);
     let at = |x, y| empty.vertex_at(x, y).unwrap();
     let square = [at(0, 0), at(1, 0), at(1, 1), at(0, 1)];
     let plan = mrpp_core::mapf::plan::Plan {

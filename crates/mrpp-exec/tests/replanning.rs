@@ -4,7 +4,8 @@
 //! valid plan of the original problem. A re-planner that finds nothing leaves the execution
 //! exactly as without re-planning.
 
-use std::path::Path;
+mod common;
+
 use std::time::Duration;
 
 use mrpp_core::mapf::graph::VertexId;
@@ -16,12 +17,6 @@ use mrpp_exec::{
     execute_replanning,
 };
 use mrpp_grid::PLANNERS;
-
-fn data(rel: &str) -> std::path::PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../data/movingai")
-        .join(rel)
-}
 
 const SIZE: f64 = 0.5;
 
@@ -50,12 +45,8 @@ fn lacam_planner() -> Box<dyn mrpp_core::Planner<MapfProblem>> {
 
 #[test]
 fn adg_with_replanning_stays_collision_free_and_its_executed_plan_is_valid() {
-    let (grid, problem) = mrpp_grid::load_problem(
-        &data("random-32-32-20.map"),
-        &data("random-32-32-20-random-1.scen"),
-        Some(60),
-    )
-    .unwrap();
+    let (grid, problem) =
+        common::bundled("random-32-32-20.map", "random-32-32-20-random-1.scen", 60);
     let plan = lacam_plan(&problem, 0).unwrap();
     let lacam = lacam_planner();
     let models = [
@@ -112,12 +103,8 @@ fn adg_with_replanning_stays_collision_free_and_its_executed_plan_is_valid() {
 
 #[test]
 fn a_replanner_that_finds_nothing_leaves_the_execution_unchanged() {
-    let (grid, problem) = mrpp_grid::load_problem(
-        &data("random-32-32-20.map"),
-        &data("random-32-32-20-random-1.scen"),
-        Some(40),
-    )
-    .unwrap();
+    let (grid, problem) =
+        common::bundled("random-32-32-20.map", "random-32-32-20-random-1.scen", 40);
     let plan = lacam_plan(&problem, 0).unwrap();
     let cfg = adg(2, "bernoulli:p=0.05,min=2,max=6", 3);
     let plain = execute(&grid, &plan, &cfg);
@@ -163,12 +150,8 @@ impl mrpp_core::Planner<MapfProblem> for Teleport {
 /// with, instead of passing it off as "no plan found"; the execution goes on with the old plan.
 #[test]
 fn a_replanner_keeps_an_invalid_plan_as_an_error() {
-    let (grid, problem) = mrpp_grid::load_problem(
-        &data("random-32-32-20.map"),
-        &data("random-32-32-20-random-1.scen"),
-        Some(30),
-    )
-    .unwrap();
+    let (grid, problem) =
+        common::bundled("random-32-32-20.map", "random-32-32-20-random-1.scen", 30);
     let plan = lacam_plan(&problem, 0).unwrap();
     let cfg = adg(2, "bernoulli:p=0.05,min=2,max=6", 1);
     let mut replanner = Replanner::new(&problem, &Teleport, 0, Duration::from_secs(1));

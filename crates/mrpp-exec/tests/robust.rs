@@ -3,18 +3,11 @@
 //! recounted from the paths), never shorter, and executed naively under delays it collides less
 //! often than the plan it came from (so robustness is measured, not just offered).
 
-use std::path::Path;
+mod common;
 
-use mrpp_core::{Ctx, Problem, solve};
+use mrpp_core::Problem;
 use mrpp_exec::robust::{k_robust, min_gap};
 use mrpp_exec::{DelayConfig, ExecConfig, ExecutorKind, execute};
-use mrpp_grid::PLANNERS;
-
-fn data(rel: &str) -> std::path::PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../data/movingai")
-        .join(rel)
-}
 
 #[test]
 fn re_timed_plans_are_valid_k_robust_and_collide_less_when_late() {
@@ -38,16 +31,7 @@ fn re_timed_plans_are_valid_k_robust_and_collide_less_when_late() {
             "pibt",
         ),
     ] {
-        let (grid, problem) =
-            mrpp_grid::load_problem(&data(map), &data(scen), Some(agents)).unwrap();
-        let entry = PLANNERS.iter().find(|e| e.name == planner).unwrap();
-        let plan = solve(
-            entry.instantiate(&[]).unwrap().as_ref(),
-            &problem,
-            &Ctx::default(),
-        )
-        .unwrap()
-        .plan;
+        let (grid, problem, plan) = common::planned(map, scen, agents, planner);
         let mut last = problem.validate(&plan).unwrap();
         let mut collided = Vec::new();
         for k in 0..=3u32 {

@@ -1,6 +1,37 @@
 //! Helpers shared by the CLI test files (each includes this module with `mod common;`).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// The repository's root: the tests run `mrpp` from there so that `data/...` paths resolve.
+#[allow(dead_code)]
+pub fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../..")
+}
+
+/// Runs `mrpp args` from the repository's root: its exit code, stdout and stderr.
+#[allow(dead_code)]
+pub fn mrpp(args: &[&str]) -> (Option<i32>, String, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_mrpp"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .unwrap();
+    (
+        o.status.code(),
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+/// Runs `mrpp args` from the repository's root, asserts that it exits with `code` and returns
+/// its stdout and stderr.
+#[allow(dead_code)]
+pub fn mrpp_exits(args: &[&str], code: i32) -> (String, String) {
+    let (got, out, err) = mrpp(args);
+    assert_eq!(got, Some(code), "mrpp {args:?}\n{out}\n{err}");
+    (out, err)
+}
 
 /// Every `.svg` in `dir` (and its subfolders) parses and rasterises to a PNG with something drawn
 /// on it: the experiments' figures are what a person will look at (issue 12). Returns how many
