@@ -263,23 +263,28 @@ impl Inputs {
         Ok(())
     }
 
-    /// Refuses the execution flags (they apply to `mrpp execute` and lifelong runs in ticks)
-    /// when planning a `family` problem, rather than ignoring them.
-    pub(crate) fn no_execution_flags(&self, family: &str) -> Result<(), Fail> {
-        for (given, flag) in [
+    /// The first execution flag given (they apply to `mrpp execute` and lifelong runs in
+    /// ticks), if any.
+    pub(crate) fn execution_flag(&self) -> Option<&'static str> {
+        [
             (self.delays.is_some(), "--delays"),
             (self.executor.is_some(), "--executor"),
             (self.k_robust.is_some(), "--k-robust"),
             (self.ticks_per_move.is_some(), "--ticks-per-move"),
             (self.agent_size.is_some(), "--agent-size"),
-        ] {
-            if given {
-                return Err(Fail(format!(
-                    "{flag} applies to `mrpp execute` and to lifelong runs in ticks (--lorr P.json, a lifelong planner, --ticks N), not to planning a {family} problem"
-                )));
-            }
+        ]
+        .into_iter()
+        .find_map(|(given, flag)| given.then_some(flag))
+    }
+
+    /// Refuses the execution flags when planning a `family` problem, rather than ignoring them.
+    pub(crate) fn no_execution_flags(&self, family: &str) -> Result<(), Fail> {
+        match self.execution_flag() {
+            Some(flag) => Err(Fail(format!(
+                "{flag} applies to `mrpp execute` and to lifelong runs in ticks (--lorr P.json, a lifelong planner, --ticks N), not to planning a {family} problem"
+            ))),
+            None => Ok(()),
         }
-        Ok(())
     }
 
     /// The files given, as `--flag path` pairs (for `-v`).

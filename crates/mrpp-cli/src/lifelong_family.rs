@@ -116,18 +116,10 @@ pub(crate) fn load_problem(inputs: &Inputs) -> Result<LifelongProblem, Fail> {
     let problem = LifelongProblem::load(path, model(inputs)?, horizon, step_time(inputs)?)?
         .with_preprocess_time(preprocess);
     if inputs.ticks.is_none() {
-        for (given, flag) in [
-            (inputs.delays.is_some(), "--delays"),
-            (inputs.executor.is_some(), "--executor"),
-            (inputs.ticks_per_move.is_some(), "--ticks-per-move"),
-            (inputs.agent_size.is_some(), "--agent-size"),
-            (inputs.k_robust.is_some(), "--k-robust"),
-        ] {
-            if given {
-                return Err(Fail(format!(
-                    "{flag} applies to lifelong runs in ticks: add --ticks N (the League's 2026 execution model)"
-                )));
-            }
+        if let Some(flag) = inputs.execution_flag() {
+            return Err(Fail(format!(
+                "{flag} applies to lifelong runs in ticks: add --ticks N (the League's 2026 execution model)"
+            )));
         }
         return Ok(problem);
     }

@@ -501,18 +501,15 @@ fn search_within(
     {
         let key = |p: &[Vec<VertexId>]| {
             let c = sum_of_costs(p, goals);
-            if soc { (c, 0) } else { (s.loss_of(p), c) }
+            if soc { (c, 0) } else { (s.edge_costs_of(p), c) }
         };
         if key(l.paths()) < key(&paths) {
             paths = l.paths().to_vec();
         }
     }
-    let horizon = paths.iter().map(Vec::len).max().unwrap_or(1);
-    let configs: Vec<Vec<VertexId>> = (0..horizon)
-        .map(|t| paths.iter().map(|p| p[t.min(p.len() - 1)]).collect())
-        .collect();
+    let configs = configs_of(&paths);
     let final_cost = match lacam.objective {
-        Objective::Makespan => horizon as u64 - 1,
+        Objective::Makespan => configs.len() as u64 - 1,
         Objective::SumOfLoss => configs.windows(2).map(|w| s.edge_cost(&w[0], &w[1])).sum(),
         Objective::SumOfCosts => sum_of_costs(&paths, goals),
     };
@@ -659,6 +656,14 @@ fn sum_of_costs(paths: &[Vec<VertexId>], goals: &[VertexId]) -> u64 {
         .sum()
 }
 
+/// The configurations of `paths`, one per step, each path held at its end up to the longest.
+fn configs_of(paths: &[Vec<VertexId>]) -> Vec<Vec<VertexId>> {
+    let horizon = paths.iter().map(Vec::len).max().unwrap_or(1);
+    (0..horizon)
+        .map(|t| paths.iter().map(|p| p[t.min(p.len() - 1)]).collect())
+        .collect()
+}
+
 /// FxHash of a configuration.
 fn config_hash(config: &[VertexId]) -> u64 {
     let mut h = FxHasher::default();
@@ -753,20 +758,12 @@ impl Search<'_> {
         }
     }
 
-    /// Sum of loss of `paths` (each held at its end up to the longest).
-    fn loss_of(&self, paths: &[Vec<VertexId>]) -> u64 {
-        let horizon = paths.iter().map(Vec::len).max().unwrap_or(1);
-        paths
-            .iter()
-            .zip(self.goals)
-            .map(|(p, &g)| {
-                (0..horizon - 1)
-                    .filter(|&t| {
-                        let (a, b) = (p[t.min(p.len() - 1)], p[(t + 1).min(p.len() - 1)]);
-                        !(a == g && b == g)
-                    })
-                    .count() as u64
-            })
+    /// The edge costs of `paths` summed (each path held at its end up to the longest): their
+    /// sum of loss under the sum-of-loss and sum-of-costs objectives.
+    fn edge_costs_of(&self, paths: &[Vec<VertexId>]) -> u64 {
+        configs_of(paths)
+            .windows(2)
+            .map(|w| self.edge_cost(&w[0], &w[1]))
             .sum()
     }
 
