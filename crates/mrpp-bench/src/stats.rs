@@ -1,4 +1,4 @@
-//! Significance tests for the experiments' comparisons.
+//! Statistics for the experiments' comparisons: a significance test and the median.
 
 /// The two-sided Mann–Whitney U test (Wilcoxon rank-sum) of samples `a` and `b`: `(U_a, p)`,
 /// with `U_a` the number of pairs where `a` is larger (ties count one half) and `p` from the
@@ -52,6 +52,18 @@ fn normal_upper_tail(z: f64) -> f64 {
     0.5 * poly * (-x * x).exp()
 }
 
+/// The median of `values` (the mean of the two middle ones for an even count), `None` when
+/// there are none. NaNs sort last.
+pub fn median(mut values: Vec<f64>) -> Option<f64> {
+    values.sort_by(f64::total_cmp);
+    let k = values.len();
+    match k {
+        0 => None,
+        _ if k % 2 == 1 => Some(values[k / 2]),
+        _ => Some((values[k / 2 - 1] + values[k / 2]) / 2.0),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -76,5 +88,12 @@ mod tests {
     fn tail_matches_known_values() {
         assert!((normal_upper_tail(0.0) - 0.5).abs() < 1e-7);
         assert!((normal_upper_tail(1.959_964) - 0.025).abs() < 1e-6);
+    }
+
+    #[test]
+    fn median_of_odd_even_and_no_values() {
+        assert_eq!(median(vec![3.0, 1.0, 2.0]), Some(2.0));
+        assert_eq!(median(vec![4.0, 1.0, 3.0, 2.0]), Some(2.5));
+        assert_eq!(median(Vec::new()), None);
     }
 }

@@ -55,6 +55,7 @@ use serde::{Deserialize, Serialize};
 use crate::harness::{
     Manifest, PeerRun, RunRecord, Sweep, params_text, run_peer_command, shell_quote,
 };
+use crate::stats::median;
 use mrpp_core::error::{Error, Result, read_file};
 use mrpp_core::registry::find;
 use mrpp_core::seeds::derive_seed;
@@ -570,6 +571,7 @@ impl Sweep for GridSweep {
             ("summary.md".into(), self.summary_page(rows, m)),
             ("success.svg".into(), success),
             ("runtime.svg".into(), runtime),
+            ("solved_over_time.svg".into(), self.solved_over_time(rows)?),
         ])
     }
 
@@ -624,7 +626,7 @@ impl GridSweep {
 
     fn summary_page(&self, rows: &[&RunRecord], m: &Manifest) -> String {
         format!(
-            "# Sweep `{}`\n\n`mrpp {}` — mrpp {}, seed {}, {} runs per cell, {} s per run, wall time {:.1} s, {} threads.\n\n{}\n## Success rate and median runtime by agents\n\n![success rate](success.svg)\n![runtime](runtime.svg)\n\n{}",
+            "# Sweep `{}`\n\n`mrpp {}` — mrpp {}, seed {}, {} runs per cell, {} s per run, wall time {:.1} s, {} threads.\n\n## Overall\n\n![runs solved within a time](solved_over_time.svg)\n\n{}\n## Per instance\n\n{}\n## Success rate and median runtime by agents\n\n![success rate](success.svg)\n![runtime](runtime.svg)\n\n{}",
             self.cfg.name,
             m.sweep_command().join(" "),
             m.mrpp_version,
@@ -633,9 +635,110 @@ impl GridSweep {
             self.cfg.time_limit,
             m.wall_seconds,
             m.threads,
+            self.overall_table(rows),
             self.table(rows),
             self.by_agents_table(rows)
         )
+    }
+
+    /// Per solver: runs solved of its runs, and the median runtime of its solved runs, over all
+    /// of them and over the instances every solver solved in every run (the fair comparison of
+    /// speed: each solver's median over the same instances).
+    fn overall_table(&self, rows: &[&RunRecord]) -> String {
+        let solved_by_all = |inst: &str| {
+            self.planners.iter().all(|b| {
+                let mine: Vec<&&RunRecord> = rows
+                    .iter()
+                    .filter(|r| r.instance == inst && self.is_of(r, b))
+                    .collect();
+                !mine.is_empty() && mine.iter().all(|r| r.status == "solved")
+            })
+        };
+        let common: Vec<&str> = self
+            .instances
+            .iter()
+            .map(|i| i.name.as_str())
+            .filter(|i| solved_by_all(i))
+            .collect();
+        let mut s = format!(
+            "| solver | solved | success % | median runtime ms, its solved runs | median runtime ms, the {} instances every solver solved |\n|---|---|---|---|---|\n",
+            common.len()
+        );
+        for b in &self.planners {
+            let mine: Vec<&&RunRecord> = rows.iter().filter(|r| self.is_of(r, b)).collect();
+            let ok: Vec<f64> = mine
+                .iter()
+                .filter(|r| r.status == "solved")
+                .map(|r| r.runtime_ms)
+                .collect();
+            let shared: Vec<f64> = mine
+                .iter()
+                .filter(|r| r.status == "solved" && common.contains(&r.instance.as_str()))
+                .map(|r| r.runtime_ms)
+                .collect();
+            let show = |v: Option<f64>| v.map_or("-".into(), |m| format!("{m:.1}"));
+            let _ = writeln!(
+                s,
+                "| {} | {}/{} | {:.1} | {} | {} |",
+                b.label(),
+                ok.len(),
+                mine.len(),
+                if mine.is_empty() {
+                    0.0
+                } else {
+                    100.0 * ok.len() as f64 / mine.len() as f64
+                },
+                show(median(ok)),
+                show(median(shared))
+            );
+        }
+        s
+    }
+
+    /// `solved_over_time.svg`: per solver, the share of its runs solved within a time, against
+    /// that time on a log scale (the form of the LaCAM\* paper's figure, Okumura, IJCAI 2023).
+    fn solved_over_time(&self, rows: &[&RunRecord]) -> Result<String> {
+        use crate::report::{Panel, Series, line_panels};
+        let limit_ms = self.cfg.time_limit * 1000.0;
+        let series = self
+            .planners
+            .iter()
+            .map(|b| {
+                let mine: Vec<&&RunRecord> = rows.iter().filter(|r| self.is_of(r, b)).collect();
+                let mut times: Vec<f64> = mine
+                    .iter()
+                    .filter(|r| r.status == "solved")
+                    .map(|r| r.runtime_ms.max(1.0))
+                    .collect();
+                times.sort_by(f64::total_cmp);
+                let share = |k: usize| 100.0 * k as f64 / mine.len().max(1) as f64;
+                let mut points = vec![(0.0, 0.0)];
+                for (k, t) in times.iter().enumerate() {
+                    points.push((t.log10(), share(k)));
+                    points.push((t.log10(), share(k + 1)));
+                }
+                points.push((limit_ms.max(1.0).log10(), share(times.len())));
+                Series {
+                    name: b.label().to_string(),
+                    points,
+                    ..Series::default()
+                }
+            })
+            .collect();
+        let panel = Panel {
+            title: format!(
+                "{} runs per solver",
+                rows.len() / self.planners.len().max(1)
+            ),
+            series,
+        };
+        line_panels(
+            "Runs solved within a time",
+            "runtime, log10 ms (0 = 1 ms, 3 = 1 s)",
+            "solved %",
+            &[panel],
+        )
+        .map_err(Error::Internal)
     }
 
     /// Whether record `r` is a run of solver `b`.
@@ -673,22 +776,13 @@ impl GridSweep {
                 if mine.is_empty() {
                     continue;
                 }
-                let mut times: Vec<f64> = mine
+                let times: Vec<f64> = mine
                     .iter()
                     .filter(|r| r.status == "solved")
                     .map(|r| r.runtime_ms)
                     .collect();
-                times.sort_by(f64::total_cmp);
                 let rate = 100.0 * times.len() as f64 / mine.len() as f64;
-                let median = (!times.is_empty()).then(|| {
-                    let k = times.len();
-                    if k % 2 == 1 {
-                        times[k / 2]
-                    } else {
-                        (times[k / 2 - 1] + times[k / 2]) / 2.0
-                    }
-                });
-                out.push((map.clone(), agents, s, rate, median));
+                out.push((map.clone(), agents, s, rate, median(times)));
             }
         }
         out

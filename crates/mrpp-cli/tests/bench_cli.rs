@@ -201,7 +201,19 @@ fn a_peer_command_joins_the_sweep_and_an_interrupted_run_resumes() {
         summary.contains("| random-32-32-20 | 40 | mrpp-pibt | 100 |"),
         "{summary}"
     );
-    for f in ["success.svg", "runtime.svg"] {
+    // Both solvers solve all four runs: each solved 4/4, and the speed comparison is over the
+    // two instances both solved.
+    for solver in ["lacam", "mrpp-pibt"] {
+        assert!(
+            summary.contains(&format!("| {solver} | 4/4 | 100.0 |")),
+            "{summary}"
+        );
+    }
+    assert!(
+        summary.contains("the 2 instances every solver solved"),
+        "{summary}"
+    );
+    for f in ["success.svg", "runtime.svg", "solved_over_time.svg"] {
         assert!(
             std::fs::read_to_string(out.join(f))
                 .unwrap()
@@ -209,7 +221,7 @@ fn a_peer_command_joins_the_sweep_and_an_interrupted_run_resumes() {
             "{f}"
         );
     }
-    assert_eq!(common::every_svg_rasterises(&out), 2);
+    assert_eq!(common::every_svg_rasterises(&out), 3);
     // Interrupted after three jobs, in the middle of the fourth line: the rerun runs only the
     // other five, and a second rerun finds all eight.
     let progress = std::fs::read_dir(&out)
@@ -364,6 +376,18 @@ fn movingai_full_counts_13900_jobs_without_the_data() {
         total += owned;
     }
     assert_eq!(total, 13900);
+    // The slice is the full protocol's random-1 scenario: 556 of the 13,900 (one in 25).
+    let (out, _) = mrpp_exits(
+        &[
+            "bench",
+            "run",
+            "--config",
+            "bench/configs/movingai-slice.toml",
+            "--dry-run",
+        ],
+        0,
+    );
+    assert!(out.contains("556 jobs (33 instance specs"), "{out}");
 
     // A config naming files that are not there: --dry-run says so, a run fails naming one.
     let dir = tmp("full-missing");
