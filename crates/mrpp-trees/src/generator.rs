@@ -12,7 +12,8 @@
 //!   "maximum branching factor". [`ChildCount::Inclusive`] draws from `0..=b` instead. With the
 //!   default, trees are small (mean 1.5 children per node for b = 4; over depth budgets 4–10,
 //!   95 nodes on average, at most about 1000), closer to the paper's PSW average of 18.6 steps
-//!   per problem; the inclusive reading gives 840 nodes on average and up to about 8600.
+//!   per problem; the inclusive reading gives 838.7 nodes on average (test
+//!   `node_counts_of_the_two_readings`) and up to about 8600.
 //! - **Ids and adjacency order.** Nodes are numbered in creation order (pre-order, root = 0) and
 //!   edges are listed in the order `addNeighbor` runs (after the child's own subtree), so every
 //!   node's neighbour list is its children in creation order followed by its parent, as in the
@@ -323,6 +324,35 @@ pub fn generate_tree(
 mod tests {
     use super::*;
     use crate::rooted::RootedTree;
+
+    /// The two readings of Algorithm 2's `random(0, b)` on the problems of PSW's
+    /// `paper_sizes` release check (b = 4, depth budgets 4 + seed mod 7, |R| = #leaves − 1,
+    /// seeds 0–199): the mean node count of each, printed for docs/reproduction/gp-trees.md
+    /// ("Deviations"; `-- --nocapture` shows it). The inclusive reading (up to b children)
+    /// grows far larger trees.
+    #[test]
+    fn node_counts_of_the_two_readings() {
+        let mean = |children| {
+            let total: usize = (0..200u64)
+                .map(|seed| {
+                    let spec = ProblemSpec {
+                        children,
+                        ..ProblemSpec::paper(4 + (seed % 7) as u32, RobotCount::LeavesMinusOne)
+                    };
+                    generate_problem(&spec, seed).unwrap().num_nodes()
+                })
+                .sum();
+            total as f64 / 200.0
+        };
+        let (exclusive, inclusive) = (mean(ChildCount::Exclusive), mean(ChildCount::Inclusive));
+        println!(
+            "random(0, b) read as 0..b-1 (exclusive): mean nodes {exclusive:.1} over 200 problems"
+        );
+        println!(
+            "random(0, b) read as 0..b (inclusive): mean nodes {inclusive:.1} over 200 problems"
+        );
+        assert!(inclusive > 4.0 * exclusive, "{inclusive} vs {exclusive}");
+    }
 
     #[test]
     fn same_seed_same_tree_and_depth_bound() {
