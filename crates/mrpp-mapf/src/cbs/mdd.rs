@@ -53,7 +53,29 @@ impl Mdd {
                 })
             });
         }
+        for l in &mut levels {
+            l.shrink_to_fit();
+        }
         Mdd { levels }
+    }
+
+    /// Whether adding the negative constraint `c` (a `Vertex` or `Edge` one) could remove a
+    /// vertex or edge from this MDD of an agent bound for `goal`: false means the MDD is the
+    /// same with it. Past the MDD's cost the agent is on its goal. Conservative: an `Edge`
+    /// constraint counts when both of its ends are at their levels.
+    pub fn touched_by(&self, c: &super::low_level::Constraint, goal: VertexId) -> bool {
+        use super::low_level::Constraint;
+        let holds = |v: VertexId, t: u32| {
+            self.levels
+                .get(t as usize)
+                .map_or(v == goal, |l| l.contains(&v))
+        };
+        match *c {
+            Constraint::Vertex { v, t } => holds(v, t),
+            Constraint::Edge { u, v, t } => t > 0 && holds(u, t - 1) && holds(v, t),
+            // Positive constraints are never added to other agents.
+            Constraint::AtVertex { .. } | Constraint::Traverses { .. } => true,
+        }
     }
 
     /// Whether the agent must be at one vertex at step `t` (steps past the cost: on its goal).

@@ -545,12 +545,23 @@ impl<'a> Search<'a> {
         }
         let cost = paths.iter().map(|p| p.len() as u64 - 1).sum();
         let lb = lbs.iter().sum();
-        // An MDD depends on the agent's constraints: a positive constraint changes everyone's.
+        // An MDD depends on the agent's constraints and cost: agent i's and every re-planned
+        // agent's are rebuilt, and with a positive constraint those of the others whose MDD
+        // holds a vertex or edge the implied negative constraints forbid.
+        let goals = &self.problem.instance().goals;
         let mut mdds = parent.mdds.clone();
-        if implied.is_empty() {
-            mdds[i] = None;
-        } else {
-            mdds.iter_mut().for_each(|m| *m = None);
+        mdds[i] = None;
+        for &j in &changed {
+            mdds[j] = None;
+        }
+        if !implied.is_empty() {
+            for (j, m) in mdds.iter_mut().enumerate() {
+                if m.as_ref()
+                    .is_some_and(|m| implied.iter().any(|x| m.touched_by(x, goals[j])))
+                {
+                    *m = None;
+                }
+            }
         }
         Ok(Child::Made(Node {
             parent: k,
@@ -814,6 +825,15 @@ impl<'a> Search<'a> {
                 }
                 push(&self, id, &mut heap, &mut lists);
             }
+            // An expanded node is never expanded again and its children hold what they need
+            // (their own paths, bounds, conflicts and shared MDDs); only its constraint and
+            // parent link stay, for its descendants' constraint chains. This halves the memory of
+            // a long search (as many expanded nodes as open ones).
+            let node = &mut self.nodes[k as usize];
+            node.paths = Vec::new();
+            node.lbs = Vec::new();
+            node.conflicts = Vec::new();
+            node.mdds = Vec::new();
         }
         Err(Unsolved::GaveUp(
             "every constraint set was refuted: the instance has no solution".into(),
