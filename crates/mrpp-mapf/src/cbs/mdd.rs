@@ -9,7 +9,7 @@ use mrpp_core::{Graph, VertexId};
 use super::low_level::Constraints;
 
 /// Level `t` holds the vertices the agent may occupy at step `t` on a cost-`c` path.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Mdd {
     levels: Vec<Vec<VertexId>>,
 }
@@ -138,7 +138,66 @@ pub fn dependent(graph: &Graph, a: &Mdd, b: &Mdd) -> bool {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::cbs::low_level::Constraints;
+    use crate::cbs::low_level::{Constraint, Constraints};
+
+    /// An MDD that `touched_by` says a negative constraint leaves alone is the MDD built with
+    /// that constraint added: every vertex and edge constraint at steps 0..=12 on a 5 x 5 grid,
+    /// for an agent from a corner to the other at its shortest cost and two steps more, with no
+    /// other constraint and with two.
+    #[test]
+    fn a_constraint_that_does_not_touch_an_mdd_leaves_it_as_it_is() {
+        let w = 5u32;
+        let mut edges = Vec::new();
+        for y in 0..w {
+            for x in 0..w {
+                let v = y * w + x;
+                if x + 1 < w {
+                    edges.push((v, v + 1));
+                }
+                if y + 1 < w {
+                    edges.push((v, v + w));
+                }
+            }
+        }
+        let g = Graph::from_edges((w * w) as usize, &edges);
+        let (start, goal) = (0, w * w - 1);
+        let h = |v: VertexId| (w - 1 - v % w) + (w - 1 - v / w);
+        let base_lists = [
+            Vec::new(),
+            vec![
+                Constraint::Vertex { v: 6, t: 2 },
+                Constraint::Edge { u: 1, v: 2, t: 2 },
+            ],
+        ];
+        let mut kept = 0;
+        for base in &base_lists {
+            for cost in [8, 10] {
+                let m = Mdd::build(&g, start, goal, cost, &h, &Constraints::new(goal, base));
+                let mut candidates = Vec::new();
+                for t in 0..=12 {
+                    for v in 0..w * w {
+                        candidates.push(Constraint::Vertex { v, t });
+                    }
+                    for &(a, b) in &edges {
+                        candidates.push(Constraint::Edge { u: a, v: b, t });
+                        candidates.push(Constraint::Edge { u: b, v: a, t });
+                    }
+                }
+                for c in candidates {
+                    if m.touched_by(&c, goal) {
+                        continue;
+                    }
+                    let mut list = base.clone();
+                    list.push(c);
+                    let with =
+                        Mdd::build(&g, start, goal, cost, &h, &Constraints::new(goal, &list));
+                    assert_eq!(with, m, "{c:?} at cost {cost}, base {base:?}");
+                    kept += 1;
+                }
+            }
+        }
+        assert!(kept > 1000, "{kept}");
+    }
 
     #[test]
     fn a_corridor_swap_is_dependent_and_parallel_lanes_are_not() {
