@@ -463,3 +463,43 @@ fn scens_and_agent_ranges_shard_and_merge() {
     assert!(records.contains("empty-8-8-random-2"), "{records}");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `tools/check/bench_plans.py` solves a config's instances again with plans saved and has the
+/// independent checker accept each (with mrpp's sum of costs): two scenarios x two agent counts
+/// of the bundled random-32-32-20.
+#[test]
+fn every_plan_of_a_config_passes_the_independent_checker() {
+    let dir = tmp("bench-plans");
+    let cfg = dir.join("mini.toml");
+    let data = root().join("data/movingai");
+    std::fs::write(
+        &cfg,
+        format!(
+            "time_limit = 5.0\n[[planners]]\nname = \"lacam\"\n[[instances]]\nmap = \"{0}/random-32-32-20.map\"\nscen = \"{0}/random-32-32-20-random-{{k}}.scen\"\nscens = \"1..=2\"\nagents = \"20..=40 step 20\"\n",
+            data.display()
+        ),
+    )
+    .unwrap();
+    let o = std::process::Command::new("python3")
+        .arg(root().join("tools/check/bench_plans.py"))
+        .args([s(&cfg), "--out", s(&dir.join("plans")), "--jobs", "2"])
+        .args(["--mrpp", env!("CARGO_BIN_EXE_mrpp")])
+        .output()
+        .expect("python3 is required for the independent checker");
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        o.status.success(),
+        "{out}{}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    assert!(
+        out.contains("4 instances: 4 plans accepted by grid.py, 0 rejected, 0 unsolved"),
+        "{out}"
+    );
+    assert_eq!(
+        std::fs::read_dir(dir.join("plans")).unwrap().count(),
+        4,
+        "{out}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
