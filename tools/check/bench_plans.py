@@ -30,16 +30,21 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 
 
 def counts(spec):
-    """Agent counts of a config entry: a list, an int, or "a..=b step s" / "a,b,c"."""
+    """Agent counts of a config entry: a list, an int, or comma-separated items, each a count
+    or a range "a..=b" / "a..=b step s"."""
     if isinstance(spec, list):
         return [int(x) for x in spec]
     if isinstance(spec, int):
         return [spec]
-    m = re.fullmatch(r"\s*(\d+)\s*\.\.=\s*(\d+)(?:\s+step\s+(\d+))?\s*", spec)
-    if m:
-        lo, hi, step = int(m[1]), int(m[2]), int(m[3] or 1)
-        return list(range(lo, hi + 1, step))
-    return [int(x) for x in spec.split(",")]
+    out = []
+    for item in spec.split(","):
+        m = re.fullmatch(r"\s*(\d+)\s*\.\.=\s*(\d+)(?:\s+step\s+(\d+))?\s*", item)
+        if m:
+            lo, hi, step = int(m[1]), int(m[2]), int(m[3] or 1)
+            out.extend(range(lo, hi + 1, step))
+        else:
+            out.append(int(item))
+    return out
 
 
 def scen_numbers(spec):
