@@ -109,13 +109,14 @@ pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             Objective::Makespan,
         ][p.choice("objective", &["sum_of_loss", "sum_of_costs", "makespan"])?];
         let restart_rate: f64 = p.get_in("restart_rate", 0.0..=1.0)?;
+        let refine = p.choice("refine", &["lns", "none", "lns_loss"])?;
         Ok(Box::new(Lacam {
             anytime,
             objective,
             restart_rate,
             tricks: Tricks::from_params(p)?,
-            refine: p.choice("refine", &["lns", "none", "lns_loss"])? != 1,
-            refine_loss: p.choice("refine", &["lns", "none", "lns_loss"])? == 2,
+            refine: refine != 1,
+            refine_loss: refine == 2,
             ..Lacam::default()
         }))
     },
@@ -385,12 +386,18 @@ fn search_within(
         {
             for _ in 0..LNS_STEPS {
                 if l.step(ctx.deadline) {
+                    // What the LNS lowers (its key's first value), named as such.
                     let cost = l.key().0;
+                    let what = if l.lowers_loss() {
+                        "sum of loss"
+                    } else {
+                        "sum of costs"
+                    };
                     ctx.report(Progress {
                         stage: "LaCAM* cost",
                         done: cost,
                         total: 0,
-                        note: format!("LNS, {} {cost}", lacam.objective.name()),
+                        note: format!("LNS, {what} {cost}"),
                     });
                 }
             }
@@ -774,12 +781,13 @@ impl Search<'_> {
         }
     }
 
-    /// The edge costs of `paths` summed (each path held at its end up to the longest): their
-    /// sum of loss under the sum-of-loss and sum-of-costs objectives.
+    /// The sum of loss of `paths` (valid paths ending on their goals): the edge costs of their
+    /// configurations summed, counted per path ([`crate::lns::path_loss`]).
     fn edge_costs_of(&self, paths: &[Vec<VertexId>]) -> u64 {
-        configs_of(paths)
-            .windows(2)
-            .map(|w| self.edge_cost(&w[0], &w[1]))
+        paths
+            .iter()
+            .zip(self.goals)
+            .map(|(p, &g)| crate::lns::path_loss(p, g))
             .sum()
     }
 

@@ -127,6 +127,11 @@ impl<'a> Lns<'a> {
         }
     }
 
+    /// Whether it lowers the sum of loss (else the sum of costs).
+    pub(crate) fn lowers_loss(&self) -> bool {
+        self.loss
+    }
+
     /// Steps taken and steps that lowered the plan's cost.
     pub(crate) fn counts(&self) -> (u64, u64) {
         (self.steps, self.improved)

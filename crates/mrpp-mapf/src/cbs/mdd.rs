@@ -146,22 +146,15 @@ mod tests {
     /// other constraint and with two.
     #[test]
     fn a_constraint_that_does_not_touch_an_mdd_leaves_it_as_it_is() {
-        let w = 5u32;
-        let mut edges = Vec::new();
-        for y in 0..w {
-            for x in 0..w {
-                let v = y * w + x;
-                if x + 1 < w {
-                    edges.push((v, v + 1));
-                }
-                if y + 1 < w {
-                    edges.push((v, v + w));
-                }
-            }
-        }
-        let g = Graph::from_edges((w * w) as usize, &edges);
-        let (start, goal) = (0, w * w - 1);
-        let h = |v: VertexId| (w - 1 - v % w) + (w - 1 - v / w);
+        let map = crate::GridMap::from_free_rows(&vec![vec![true; 5]; 5]);
+        let g = map.graph();
+        let n = g.num_vertices() as VertexId;
+        let edges: Vec<(VertexId, VertexId)> = (0..n)
+            .flat_map(|u| g.neighbors(u).iter().map(move |&v| (u, v)))
+            .collect();
+        let (start, goal) = (0, n - 1);
+        let to_goal = mrpp_core::mapf::search::distance::bfs_distances(g, goal);
+        let h = |v: VertexId| to_goal[v as usize];
         let base_lists = [
             Vec::new(),
             vec![
@@ -172,15 +165,15 @@ mod tests {
         let mut kept = 0;
         for base in &base_lists {
             for cost in [8, 10] {
-                let m = Mdd::build(&g, start, goal, cost, &h, &Constraints::new(goal, base));
+                let m = Mdd::build(g, start, goal, cost, &h, &Constraints::new(goal, base));
                 let mut candidates = Vec::new();
                 for t in 0..=12 {
-                    for v in 0..w * w {
+                    for v in 0..n {
                         candidates.push(Constraint::Vertex { v, t });
                     }
-                    for &(a, b) in &edges {
-                        candidates.push(Constraint::Edge { u: a, v: b, t });
-                        candidates.push(Constraint::Edge { u: b, v: a, t });
+                    // Both directions: `edges` lists every neighbour of every vertex.
+                    for &(u, v) in &edges {
+                        candidates.push(Constraint::Edge { u, v, t });
                     }
                 }
                 for c in candidates {
@@ -189,8 +182,7 @@ mod tests {
                     }
                     let mut list = base.clone();
                     list.push(c);
-                    let with =
-                        Mdd::build(&g, start, goal, cost, &h, &Constraints::new(goal, &list));
+                    let with = Mdd::build(g, start, goal, cost, &h, &Constraints::new(goal, &list));
                     assert_eq!(with, m, "{c:?} at cost {cost}, base {base:?}");
                     kept += 1;
                 }
