@@ -8,11 +8,16 @@ script is the independent half of "every plan validated": it expands the config'
 config), runs `MRPP solve -m MAP -i SCEN -N AGENTS -P PLANNER -t LIMIT -s SEED -o PLAN.json` for
 each, and checks each plan the solver reported as solved. It prints one line per instance and a
 summary, and exits 1 if any plan is rejected by the checker (or its sum of costs differs from
-mrpp's), 0 otherwise. Runs that end unsolved are counted, not checked.
+mrpp's), 0 otherwise. Runs that end unsolved are counted, not checked. With `--bounds` the
+checker also computes the lower bound of the sum of costs and of the makespan by its own
+breadth-first searches, and both must equal the ones mrpp prints (the bounds `mrpp bench`
+records); when mrpp prints the plan's sum of loss (LaCAM's `final_sum_of_loss`), it must equal
+the checker's.
 
 Usage:
   python3 tools/check/bench_plans.py CONFIG.toml --out DIR [--mrpp PATH] [--planner lacam]
                                      [--time-limit S] [--seed N] [--jobs J] [--data DIR]
+                                     [--bounds]
 
 `--data DIR` replaces the folder of every map and scenario path (e.g. a benchmark unpacked
 elsewhere than the config's `data/movingai`).
@@ -83,7 +88,8 @@ def one(args, job):
     r = subprocess.run(cmd, capture_output=True, text=True)
     if r.returncode != 0 or not os.path.exists(plan):
         return name, "unsolved", (r.stderr.strip().splitlines() or [f"exit {r.returncode}"])[-1]
-    c = subprocess.run([sys.executable, os.path.join(HERE, "grid.py"), m, plan],
+    c = subprocess.run([sys.executable, os.path.join(HERE, "grid.py")]
+                       + (["--bounds"] if args.bounds else []) + [m, plan],
                        capture_output=True, text=True)
     text = (c.stdout + c.stderr).strip()
     if c.returncode != 0:
@@ -93,6 +99,18 @@ def one(args, job):
     theirs = re.search(r'"sum_of_costs": (\d+)', text)
     if not ours or not theirs or ours[1] != theirs[1]:
         return name, "rejected", f"sum of costs: mrpp {ours and ours[1]}, grid.py {theirs and theirs[1]}"
+    # "sum_of_costs N (lower bound B, ...) | makespan M (lower bound C, ...)" and LaCAM's notes.
+    pairs = [("sum_of_loss", r"final_sum_of_loss (\d+)")]
+    if args.bounds:
+        pairs += [("lower_bound", r"^solved: sum_of_costs \d+ \(lower bound (\d+)"),
+                  ("makespan_lower_bound", r"\| makespan \d+ \(lower bound (\d+)")]
+    for key, pattern in pairs:
+        mine = re.search(pattern, r.stdout, re.M)
+        checked = re.search(rf'"{key}": (\d+)', text)
+        if key != "sum_of_loss" and not mine:
+            return name, "rejected", f"mrpp printed no {key}"
+        if mine and (not checked or mine[1] != checked[1]):
+            return name, "rejected", f"{key}: mrpp {mine[1]}, grid.py {checked and checked[1]}"
     return name, "accepted", text.splitlines()[-1] if text else ""
 
 
@@ -107,6 +125,8 @@ def main():
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--jobs", type=int, default=1)
     ap.add_argument("--data", default=None)
+    ap.add_argument("--bounds", action="store_true",
+                    help="also check the lower bounds (slow on large maps: one BFS per agent)")
     args = ap.parse_args()
     jobs, cfg = instances(args.config, args.data)
     if args.time_limit is None:

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """Independent checker of mrpp JSON plans on grid maps (stdlib only).
 
-Usage: python3 tools/check/grid.py MAP PLAN.json
-       python3 tools/check/grid.py LORR_PROBLEM.json PLAN.json
+Usage: python3 tools/check/grid.py [--bounds] MAP PLAN.json
+       python3 tools/check/grid.py [--bounds] LORR_PROBLEM.json PLAN.json
 
 Written from the rules in docs/design.md, not from the Rust validator, so that the two can
 catch each other's mistakes:
@@ -27,13 +27,18 @@ catch each other's mistakes:
   go out in file order, agent i takes task i unless its first errand is already a goal, then the
   first task from index teamSize on that is unused with a first errand not yet a goal;
 - sum of costs = sum over agents, makespan = the maximum, sum of moves = steps where an agent's
-  cell changes.
+  cell changes; sum of loss = per agent, the steps except those from its goal to its goal
+  (waits on the goal), summed (LaCAM*'s objective);
+- with `--bounds`, also the lower bounds any plan meets: `lower_bound`, the sum over agents of
+  the breadth-first distance from start to goal alone on the map (it bounds the sum of costs
+  and the sum of loss), and `makespan_lower_bound`, the largest of those distances.
 
 The plan is mrpp's plan envelope (`"format": "mrpp-plan/1"`, rules in `"rules": {"goal", "following"}`)
 or an older mrpp JSON plan (`"goal_semantics"` at the top level). When the file reports metrics
 (not null), they must equal the recomputed ones.
 
-Prints one JSON line, {"valid": true, "sum_of_costs": .., "makespan": .., "sum_of_moves": ..}
+Prints one JSON line, {"valid": true, "sum_of_costs": .., "makespan": .., "sum_of_moves": ..,
+"sum_of_loss": .. [, "lower_bound": .., "makespan_lower_bound": ..]}
 or {"valid": false, "reason": "..."}, and exits 0 when valid, 1 when not (including unreadable
 or malformed inputs), 2 on wrong usage.
 """
@@ -251,8 +256,9 @@ def check(grid, plan):
                         f"leaves between t={t - 1} and t={t}"
                     )
 
-    sum_of_costs = makespan = sum_of_moves = 0
+    sum_of_costs = makespan = sum_of_moves = sum_of_loss = 0
     for i, (p, goal) in enumerate(zip(paths, goals)):
+        sum_of_loss += sum(1 for t in range(1, len(p)) if not (p[t - 1] == goal and p[t] == goal))
         if semantics == "stay":
             if p[-1] != goal:
                 raise Invalid(f"agent {i} ends at {fmt(p[-1])}, not on its goal {fmt(goal)}")
@@ -273,7 +279,31 @@ def check(grid, plan):
         for key, value in result.items():
             if reported.get(key) is not None and reported.get(key) != value:
                 raise Invalid(f"the file reports {key}={reported.get(key)} but the plan's is {value}")
+    result["sum_of_loss"] = sum_of_loss
+    result["starts_goals"] = [(p[0], g) for p, g in zip(paths, goals)]
     return result
+
+
+def lower_bounds(grid, starts_goals):
+    """(sum, max) over agents of the breadth-first distance from start to goal on the grid."""
+    _, _, free = grid
+    total = longest = 0
+    for start, goal in starts_goals:
+        dist = {start: 0}
+        frontier = [start]
+        while frontier and goal not in dist:
+            nxt = []
+            for x, y in frontier:
+                for c in ((x + 1, y), (x - 1, y), (x, y + 1), (x, y - 1)):
+                    if c in free and c not in dist:
+                        dist[c] = dist[(x, y)] + 1
+                        nxt.append(c)
+            frontier = nxt
+        if goal not in dist:
+            raise Invalid(f"goal {fmt(goal)} cannot be reached from {fmt(start)}")
+        total += dist[goal]
+        longest = max(longest, dist[goal])
+    return total, longest
 
 
 def lorr_problem(path):
@@ -334,8 +364,10 @@ def fmt(cell):
 
 
 def main(argv):
+    bounds = "--bounds" in argv[1:]
+    argv = [a for a in argv if a != "--bounds"]
     if len(argv) != 3:
-        print(f"usage: {argv[0]} MAP|LORR_PROBLEM.json PLAN.json", file=sys.stderr)
+        print(f"usage: {argv[0]} [--bounds] MAP|LORR_PROBLEM.json PLAN.json", file=sys.stderr)
         return 2
     try:
         if argv[1].endswith(".json"):
@@ -347,6 +379,9 @@ def main(argv):
             grid = load_map(argv[1])
             plan = load_plan(argv[2])
         result = check(grid, plan)
+        starts_goals = result.pop("starts_goals")
+        if bounds:
+            result["lower_bound"], result["makespan_lower_bound"] = lower_bounds(grid, starts_goals)
     except Invalid as e:
         print(json.dumps({"valid": False, "reason": str(e)}))
         return 1

@@ -429,6 +429,7 @@ impl Sweep for ExecutionSweep {
             sum_of_moves: None,
             runtime_ms: r.wall_ms,
             note: format!("{}; {} collisions", r.status, r.collisions),
+            ..Default::default()
         }]
     }
     fn pages(&self, rows: &[&ExecRow], m: &Manifest) -> Result<Vec<(String, String)>> {

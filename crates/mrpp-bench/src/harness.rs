@@ -73,8 +73,9 @@ impl FromStr for Shard {
     }
 }
 
-/// One validated run in the schema every sweep shares (`records.csv`).
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+/// One validated run in the schema every sweep shares (`records.csv`). The columns after `note`
+/// were added later (issue 31): files written before read them as empty.
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 pub struct RunRecord {
     /// The job's number in its sweep.
     pub job: usize,
@@ -101,6 +102,33 @@ pub struct RunRecord {
     /// empty otherwise. The last column, so the columns before it keep their places.
     #[serde(default)]
     pub note: String,
+    /// Milliseconds to the first plan: the planner's own count when it reports one (LaCAM\*'s
+    /// `first_solution_ms`, a peer's `comp_time_initial_solution`), else `runtime_ms` of a
+    /// solved run; empty when unsolved or where a sweep does not measure it.
+    #[serde(default)]
+    pub first_solution_ms: Option<f64>,
+    /// Sum of loss of the plan ([`mrpp_core::mapf::plan::path_loss`] summed; MAPF sweeps).
+    #[serde(default)]
+    pub sum_of_loss: Option<u64>,
+    /// The sum of every agent's shortest-path distance to its goal, alone on the map: a lower
+    /// bound of both the sum of costs and the sum of loss (MAPF sweeps).
+    #[serde(default)]
+    pub lower_bound: Option<u64>,
+    /// The longest of those distances: a lower bound of the makespan (MAPF sweeps).
+    #[serde(default)]
+    pub makespan_lower_bound: Option<u64>,
+    /// `sum_of_costs / lower_bound` (1 = optimal for every agent alone).
+    #[serde(default)]
+    pub sum_of_costs_ratio: Option<f64>,
+    /// `sum_of_loss / lower_bound`.
+    #[serde(default)]
+    pub sum_of_loss_ratio: Option<f64>,
+    /// Peak memory of the run in MB (10^6 bytes): for mrpp's planners the most heap bytes live
+    /// during the run above those live at its start ([`mrpp_core::memory::peak_bytes`]; exact
+    /// with `--jobs 1`, with more jobs it includes the others'); for a peer the peak resident set
+    /// of its process (`ru_maxrss`). Empty where a sweep does not measure it.
+    #[serde(default)]
+    pub peak_memory_mb: Option<f64>,
 }
 
 /// A sweep: a fixed list of jobs, how to run one, and what its outputs are.
@@ -625,8 +653,13 @@ pub enum PeerRun {
     Failed { note: String, wall_ms: f64 },
     /// Killed at the limit (with everything it started).
     Killed { wall_ms: f64 },
-    /// It exited 0 and wrote `text` to its result file.
-    Done { text: String, wall_ms: f64 },
+    /// It exited 0 and wrote `text` to its result file. `peak_rss_kb`: the largest resident set
+    /// of the command and the processes it waited for (`ru_maxrss` of `wait4(2)`), in KiB.
+    Done {
+        text: String,
+        wall_ms: f64,
+        peak_rss_kb: Option<u64>,
+    },
 }
 
 /// Runs a peer's `command` with `sh -c` in its own process group (stdin and stdout closed,
@@ -640,8 +673,8 @@ pub fn run_peer_command(
 ) -> PeerRun {
     use std::os::unix::process::CommandExt as _;
     let started = std::time::Instant::now();
-    // `Ok(Some(status))` when it ended, `Ok(None)` when it was killed at the limit.
-    let finished: std::io::Result<Option<std::process::ExitStatus>> = (|| {
+    // `Ok(Some((status, peak kB)))` when it ended, `Ok(None)` when it was killed at the limit.
+    let finished: std::io::Result<Option<Reaped>> = (|| {
         let stderr = std::fs::File::create(stderr_path)?;
         std::process::Command::new("sh")
             .arg("-c")
@@ -653,8 +686,8 @@ pub fn run_peer_command(
             .spawn()
             .map(|mut child| {
                 loop {
-                    match child.try_wait() {
-                        Ok(Some(status)) => break Some(status),
+                    match reap(&child) {
+                        Ok(Some(done)) => break Some(done),
                         Ok(None) if started.elapsed() < limit => {
                             std::thread::sleep(std::time::Duration::from_millis(5))
                         }
@@ -663,7 +696,7 @@ pub fn run_peer_command(
                                 .args(["-KILL", "--", &format!("-{}", child.id())])
                                 .status();
                             let _ = child.kill();
-                            let _ = child.wait();
+                            let _ = reap_blocking(&child);
                             break None;
                         }
                     }
@@ -681,10 +714,15 @@ pub fn run_peer_command(
             };
         }
         Ok(None) => return PeerRun::Killed { wall_ms },
-        Ok(Some(status)) => status,
+        Ok(Some(done)) => done,
     };
+    let (status, peak_rss_kb) = status;
     match text.filter(|_| status.success()) {
-        Some(text) => PeerRun::Done { text, wall_ms },
+        Some(text) => PeerRun::Done {
+            text,
+            wall_ms,
+            peak_rss_kb,
+        },
         None => {
             let what = match status.code() {
                 Some(c) => format!("exit {c}"),
@@ -710,6 +748,47 @@ pub fn run_peer_command(
                     }
                 ),
                 wall_ms,
+            }
+        }
+    }
+}
+
+/// `waitpid(WNOHANG)` on `child` with its resource usage: `Ok(None)` while it runs, else its
+/// exit status and peak resident set in KiB (the shell's and every process it waited for, so
+/// the peer's own when `sh -c` runs it).
+fn reap(child: &std::process::Child) -> std::io::Result<Option<Reaped>> {
+    wait4(child, libc::WNOHANG)
+}
+
+/// As [`reap`], waiting until the child ends.
+fn reap_blocking(child: &std::process::Child) -> std::io::Result<Option<Reaped>> {
+    wait4(child, 0)
+}
+
+/// A child's exit status and peak resident set in KiB.
+type Reaped = (std::process::ExitStatus, Option<u64>);
+
+fn wait4(child: &std::process::Child, options: libc::c_int) -> std::io::Result<Option<Reaped>> {
+    use std::os::unix::process::ExitStatusExt as _;
+    let pid = libc::pid_t::try_from(child.id()).map_err(std::io::Error::other)?;
+    let mut status: libc::c_int = 0;
+    // SAFETY: `rusage` is plain old data that `wait4` fills in; all-zero is a valid value.
+    let mut usage: libc::rusage = unsafe { std::mem::zeroed() };
+    loop {
+        // SAFETY: `pid` is our own child (not yet reaped: only this function waits for it) and
+        // both out-pointers point to live locals of the right types.
+        let got = unsafe { libc::wait4(pid, &mut status, options, &mut usage) };
+        match got {
+            0 => return Ok(None),
+            p if p == pid => {
+                let kb = u64::try_from(usage.ru_maxrss).ok().filter(|&kb| kb > 0);
+                return Ok(Some((std::process::ExitStatus::from_raw(status), kb)));
+            }
+            _ => {
+                let e = std::io::Error::last_os_error();
+                if e.kind() != std::io::ErrorKind::Interrupted {
+                    return Err(e);
+                }
             }
         }
     }

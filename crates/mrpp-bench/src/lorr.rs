@@ -412,7 +412,7 @@ impl LorrSweep {
                 row.wall_s = wall_ms / 1e3;
                 return row;
             }
-            PeerRun::Done { text, wall_ms } => (text, wall_ms),
+            PeerRun::Done { text, wall_ms, .. } => (text, wall_ms),
         };
         row.wall_s = wall_ms / 1e3;
         let p = &self.problems[problem].1;
@@ -596,6 +596,7 @@ impl Sweep for LorrSweep {
             sum_of_moves: None,
             runtime_ms: r.wall_s * 1e3,
             note: r.note.clone(),
+            ..Default::default()
         }]
     }
     fn pages(&self, rows: &[&LorrRow], m: &Manifest) -> Result<Vec<(String, String)>> {

@@ -39,8 +39,18 @@
 //! unreadable result is `gave_up`; a result the validator rejects is `invalid` (a peer's bug is
 //! recorded, not fatal).
 //!
+//! Every solved run's record also has the time to its first plan (LaCAM\*'s own count, lacam3's
+//! `comp_time_initial_solution`, else the runtime), its sum of loss, the lower bounds of the sum
+//! of costs and loss (the agents' shortest-path distances summed) and of the makespan (their
+//! largest; `mrpp solve` prints the same), the two ratios to the bound, and its peak memory: the heap bytes an mrpp planner
+//! had live at most above those live when it started (counted by the binary's allocator; with
+//! `--jobs 1` only that run's), or a peer process's peak resident set (`ru_maxrss`, which also
+//! counts its code and libraries, so the two are not the same measure). The bounds take one
+//! shortest-path search per agent, once per instance, before the first run's clock starts.
+//!
 //! Job key: `<map>/<scen>/a<agents>/<planner>[;k=v...]/<run>` (file stems). Pages: `records.csv`
-//! (the records), `summary.md` (per instance and planner: runs solved, mean sum of costs, mean
+//! (the records), `summary.md` (overall per solver: success, and medians of runtime, first plan,
+//! the two ratios and peak memory over the instances every solver solved; per instance and planner: runs solved, mean sum of costs, mean
 //! makespan and mean runtime over the solved runs; per map, agent count and solver: success rate
 //! and median runtime), `success.svg` (success rate against agents, one panel per map) and
 //! `runtime.svg` (median runtime of the solved runs against agents).
@@ -340,6 +350,47 @@ struct Loaded {
     map_path: PathBuf,
     scen_path: PathBuf,
     problem: MapfProblem,
+    /// (sum, max) of the agents' shortest-path distances, computed by the first job that needs
+    /// them ([`Loaded::bounds`]).
+    bounds: std::sync::OnceLock<Option<(u64, u64)>>,
+}
+
+impl Loaded {
+    /// The lower bounds of the sum of costs (and of loss) and of the makespan
+    /// ([`mrpp_core::mapf::search::distance::lower_bounds`]: the sum and the largest of the
+    /// agents' start-goal distances); `None` when a goal cannot be reached.
+    fn bounds(&self) -> Option<(u64, u64)> {
+        *self.bounds.get_or_init(|| {
+            let inst = self.problem.instance();
+            mrpp_core::mapf::search::distance::lower_bounds(
+                self.problem.graph(),
+                &inst.starts,
+                &inst.goals,
+            )
+            .ok()
+        })
+    }
+
+    /// The quality columns of a solved run's record: sum of loss, the lower bounds and the
+    /// ratios (module doc).
+    fn quality(
+        &self,
+        plan: &mrpp_core::mapf::plan::Plan,
+        m: &mrpp_core::Metrics,
+        rec: &mut RunRecord,
+    ) {
+        let loss = plan.sum_of_loss(&self.problem.instance().goals);
+        rec.sum_of_loss = Some(loss);
+        let Some((lb, makespan_lb)) = self.bounds() else {
+            return;
+        };
+        // A bound of 0 (every agent starts on its goal) leaves the ratios empty.
+        let ratio = |x: u64| (lb > 0).then(|| x as f64 / lb as f64);
+        rec.lower_bound = Some(lb);
+        rec.makespan_lower_bound = Some(makespan_lb);
+        rec.sum_of_costs_ratio = ratio(m.sum_of_costs);
+        rec.sum_of_loss_ratio = ratio(loss);
+    }
 }
 
 /// Who solves a job: a registered planner or a peer.
@@ -412,6 +463,7 @@ impl GridSweep {
                     map_path: spec.map.clone(),
                     scen_path: spec.scen.clone(),
                     problem,
+                    bounds: std::sync::OnceLock::new(),
                 });
             }
         }
@@ -529,24 +581,32 @@ impl Sweep for GridSweep {
             Solver::Own(b) => b,
             Solver::Peer(peer) => return self.run_peer_counted(p, peer, i, run, seed, job),
         };
+        // A planner of its own per job, so that its notes (the first plan's time) are this
+        // run's even when jobs run in parallel.
+        let planner = build(&self.cfg.planners[p])?.planner;
+        let inst = &self.instances[i];
+        inst.bounds(); // before the clock starts
         let ctx = Ctx::new(
             seed,
             Deadline::after(Duration::from_secs_f64(self.cfg.time_limit)),
         );
+        let live = mrpp_core::memory::live_bytes();
+        mrpp_core::memory::reset_peak();
         let started = std::time::Instant::now();
-        let outcome = solve(b.planner.as_ref(), &self.instances[i].problem, &ctx);
+        let outcome = solve(planner.as_ref(), &inst.problem, &ctx);
         let runtime_ms = started.elapsed().as_secs_f64() * 1e3;
+        let peak = mrpp_core::memory::peak_bytes().saturating_sub(live);
         let m = match &outcome {
             Err(Unsolved::Invalid(why)) => return Err(Error::Internal(why.clone())),
             Err(_) => None,
             Ok(s) => Some(s.metrics),
         };
-        Ok(RunRecord {
+        let mut rec = RunRecord {
             job: 0,
             key: String::new(),
             family: mrpp_grid::FAMILY.into(),
-            instance: self.instances[i].name.clone(),
-            planner: b.planner.name().to_string(),
+            instance: inst.name.clone(),
+            planner: planner.name().to_string(),
             params: b.params.clone(),
             run,
             seed,
@@ -557,8 +617,20 @@ impl Sweep for GridSweep {
             makespan: m.map(|m| m.makespan),
             sum_of_moves: m.map(|m| m.sum_of_moves),
             runtime_ms,
-            note: String::new(),
-        })
+            peak_memory_mb: (peak > 0).then(|| peak as f64 / 1e6),
+            ..Default::default()
+        };
+        if let Ok(solved) = &outcome {
+            rec.first_solution_ms = Some(
+                planner
+                    .notes()
+                    .get("first_solution_ms")
+                    .and_then(serde_json::Value::as_f64)
+                    .unwrap_or(runtime_ms),
+            );
+            inst.quality(&solved.plan, &solved.metrics, &mut rec);
+        }
+        Ok(rec)
     }
 
     fn records(&self, row: &RunRecord) -> Vec<RunRecord> {
@@ -661,7 +733,7 @@ impl GridSweep {
             .filter(|i| solved_by_all(i))
             .collect();
         let mut s = format!(
-            "| solver | solved | success % | median runtime ms, its solved runs | median runtime ms, the {} instances every solver solved |\n|---|---|---|---|---|\n",
+            "| solver | solved | success % | median runtime ms, its solved runs | median over the {} instances every solver solved: runtime ms | first plan ms | sum of costs / lower bound | sum of loss / lower bound | peak memory MB (mrpp: heap; peers: resident set) |\n|---|---|---|---|---|---|---|---|---|\n",
             common.len()
         );
         for b in &self.planners {
@@ -671,15 +743,17 @@ impl GridSweep {
                 .filter(|r| r.status == "solved")
                 .map(|r| r.runtime_ms)
                 .collect();
-            let shared: Vec<f64> = mine
+            let shared: Vec<&&&RunRecord> = mine
                 .iter()
                 .filter(|r| r.status == "solved" && common.contains(&r.instance.as_str()))
-                .map(|r| r.runtime_ms)
                 .collect();
-            let show = |v: Option<f64>| v.map_or("-".into(), |m| format!("{m:.1}"));
+            let med = |f: &dyn Fn(&RunRecord) -> Option<f64>, digits: usize| {
+                median(shared.iter().filter_map(|r| f(r)).collect())
+                    .map_or("-".into(), |m| format!("{m:.digits$}"))
+            };
             let _ = writeln!(
                 s,
-                "| {} | {}/{} | {:.1} | {} | {} |",
+                "| {} | {}/{} | {:.1} | {} | {} | {} | {} | {} | {} |",
                 b.label(),
                 ok.len(),
                 mine.len(),
@@ -688,8 +762,12 @@ impl GridSweep {
                 } else {
                     100.0 * ok.len() as f64 / mine.len() as f64
                 },
-                show(median(ok)),
-                show(median(shared))
+                median(ok).map_or("-".into(), |m| format!("{m:.1}")),
+                med(&|r| Some(r.runtime_ms), 1),
+                med(&|r| r.first_solution_ms, 1),
+                med(&|r| r.sum_of_costs_ratio, 3),
+                med(&|r| r.sum_of_loss_ratio, 3),
+                med(&|r| r.peak_memory_mb, 1),
             );
         }
         s
@@ -904,6 +982,7 @@ impl GridSweep {
             sum_of_moves: None,
             runtime_ms,
             note,
+            ..Default::default()
         }
     }
 
@@ -934,7 +1013,7 @@ impl GridSweep {
             makespan: m.map(|m| m.makespan),
             sum_of_moves: m.map(|m| m.sum_of_moves),
             runtime_ms,
-            note: String::new(),
+            ..Default::default()
         };
         // One folder per job (its key is unique in the sweep), emptied first.
         let dir = std::env::temp_dir().join(format!(
@@ -962,18 +1041,27 @@ impl GridSweep {
         let limit = Duration::from_secs_f64(self.cfg.time_limit * 2.0 + 10.0);
         let ran = run_peer_command(&command, &out, &stderr_path, limit);
         let _ = std::fs::remove_dir_all(&dir);
-        let (text, wall_ms) = match ran {
+        let (text, wall_ms, peak_rss_kb) = match ran {
             PeerRun::Failed { note, wall_ms } => return failed(note, wall_ms),
             PeerRun::Killed { wall_ms } => return record("time_limit", None, wall_ms),
-            PeerRun::Done { text, wall_ms } => (text, wall_ms),
+            PeerRun::Done {
+                text,
+                wall_ms,
+                peak_rss_kb,
+            } => (text, wall_ms, peak_rss_kb),
         };
-        // A peer's own runtime, when it is a sane number of milliseconds.
-        let runtime_ms = text
-            .lines()
-            .find_map(|l| l.strip_prefix("comp_time="))
-            .and_then(|v| v.trim().parse::<f64>().ok())
-            .filter(|&ms| ms.is_finite() && (0.0..1e12).contains(&ms))
-            .unwrap_or(wall_ms);
+        // A peer's own count of milliseconds under `key`, when it is a sane number.
+        let ms = |key: &str| {
+            text.lines()
+                .find_map(|l| l.strip_prefix(key)?.strip_prefix('='))
+                .and_then(|v| v.trim().parse::<f64>().ok())
+                .filter(|&ms| ms.is_finite() && (0.0..1e12).contains(&ms))
+        };
+        let runtime_ms = ms("comp_time").unwrap_or(wall_ms);
+        let record = |status: &str, m: Option<mrpp_core::Metrics>, runtime_ms: f64| RunRecord {
+            peak_memory_mb: peak_rss_kb.map(|kb| kb as f64 * 1024.0 / 1e6),
+            ..record(status, m, runtime_ms)
+        };
         if text
             .lines()
             .any(|l| matches!(l.trim(), "solved=0" | "solved=false"))
@@ -1013,7 +1101,11 @@ impl GridSweep {
                     )
                     .is_ok() =>
             {
-                record("solved", Some(s.metrics), runtime_ms)
+                let mut rec = record("solved", Some(s.metrics), runtime_ms);
+                rec.first_solution_ms =
+                    Some(ms("comp_time_initial_solution").unwrap_or(runtime_ms));
+                inst.quality(&s.plan, &s.metrics, &mut rec);
+                rec
             }
             _ => record("invalid", None, runtime_ms),
         }

@@ -14,13 +14,23 @@ fn tmp(name: &str) -> PathBuf {
     dir
 }
 
-/// A CSV file without its wall-clock columns.
+/// A CSV file without its wall-clock and memory columns (they depend on the machine and on what
+/// ran before in the process).
 fn without_timing(path: &Path) -> String {
     let text = std::fs::read_to_string(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     let mut lines = text.lines();
     let header: Vec<&str> = lines.next().unwrap().split(',').collect();
     let keep: Vec<usize> = (0..header.len())
-        .filter(|&i| !["runtime_ms", "gp_seconds", "seconds"].contains(&header[i]))
+        .filter(|&i| {
+            ![
+                "runtime_ms",
+                "gp_seconds",
+                "seconds",
+                "first_solution_ms",
+                "peak_memory_mb",
+            ]
+            .contains(&header[i])
+        })
         .collect();
     text.lines()
         .map(|l| {
@@ -196,6 +206,42 @@ fn a_peer_command_joins_the_sweep_and_an_interrupted_run_resumes() {
         peer_rows.iter().all(|l| l.contains(",solved,")),
         "{records}"
     );
+    // Issue 31's quality columns, on every solved run of both solvers: the sum of loss between
+    // the lower bound and the sum of costs, the ratios, the first plan within the run, memory.
+    let header: Vec<&str> = records.lines().next().unwrap().split(',').collect();
+    let col = |row: &str, name: &str| -> f64 {
+        let at = header.iter().position(|h| *h == name).unwrap();
+        row.split(',')
+            .nth(at)
+            .unwrap()
+            .parse()
+            .unwrap_or_else(|_| panic!("{name} in {row}"))
+    };
+    for row in records.lines().skip(1) {
+        let (soc, loss, lb) = (
+            col(row, "sum_of_costs"),
+            col(row, "sum_of_loss"),
+            col(row, "lower_bound"),
+        );
+        assert!(0.0 < lb && lb <= loss && loss <= soc, "{row}");
+        assert!(
+            col(row, "makespan_lower_bound") <= col(row, "makespan"),
+            "{row}"
+        );
+        assert!(
+            (col(row, "sum_of_costs_ratio") - soc / lb).abs() < 1e-9,
+            "{row}"
+        );
+        assert!(
+            (col(row, "sum_of_loss_ratio") - loss / lb).abs() < 1e-9,
+            "{row}"
+        );
+        assert!(
+            col(row, "first_solution_ms") <= col(row, "runtime_ms") + 1e-6,
+            "{row}"
+        );
+        assert!(col(row, "peak_memory_mb") > 0.0, "{row}");
+    }
     let summary = std::fs::read_to_string(out.join("summary.md")).unwrap();
     assert!(
         summary.contains("| random-32-32-20 | 40 | mrpp-pibt | 100 |"),
@@ -465,8 +511,9 @@ fn scens_and_agent_ranges_shard_and_merge() {
 }
 
 /// `tools/check/bench_plans.py` solves a config's instances again with plans saved and has the
-/// independent checker accept each (with mrpp's sum of costs): two scenarios x two agent counts
-/// of the bundled random-32-32-20.
+/// independent checker accept each (with mrpp's sum of costs, sum of loss and lower bounds, the
+/// bounds `mrpp bench` records): two scenarios x two agent counts of the bundled
+/// random-32-32-20.
 #[test]
 fn every_plan_of_a_config_passes_the_independent_checker() {
     let dir = tmp("bench-plans");
@@ -482,7 +529,14 @@ fn every_plan_of_a_config_passes_the_independent_checker() {
     .unwrap();
     let o = std::process::Command::new("python3")
         .arg(root().join("tools/check/bench_plans.py"))
-        .args([s(&cfg), "--out", s(&dir.join("plans")), "--jobs", "2"])
+        .args([
+            s(&cfg),
+            "--out",
+            s(&dir.join("plans")),
+            "--jobs",
+            "2",
+            "--bounds",
+        ])
         .args(["--mrpp", env!("CARGO_BIN_EXE_mrpp")])
         .output()
         .expect("python3 is required for the independent checker");
@@ -496,6 +550,13 @@ fn every_plan_of_a_config_passes_the_independent_checker() {
         out.contains("4 instances: 4 plans accepted by grid.py, 0 rejected, 0 unsolved"),
         "{out}"
     );
+    // Each accepted line ends with the checker's JSON, bounds and sum of loss included.
+    assert_eq!(
+        out.matches("\"makespan_lower_bound\": ").count(),
+        4,
+        "{out}"
+    );
+    assert_eq!(out.matches("\"sum_of_loss\": ").count(), 4, "{out}");
     assert_eq!(
         std::fs::read_dir(dir.join("plans")).unwrap().count(),
         4,

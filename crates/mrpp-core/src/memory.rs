@@ -17,6 +17,8 @@ use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 /// Heap bytes allocated through [`CountingAlloc`] and not yet freed.
 static LIVE: AtomicUsize = AtomicUsize::new(0);
+/// The most heap bytes live at once since the last [`reset_peak`].
+static PEAK: AtomicUsize = AtomicUsize::new(0);
 /// The limit in bytes (`usize::MAX`: none).
 static LIMIT: AtomicUsize = AtomicUsize::new(usize::MAX);
 /// Whether [`over_limit`] has answered `true` since [`reset_tripped`].
@@ -33,7 +35,7 @@ unsafe impl GlobalAlloc for CountingAlloc {
         // SAFETY: forwarded as is.
         let p = unsafe { System.alloc(layout) };
         if !p.is_null() {
-            LIVE.fetch_add(layout.size(), Ordering::Relaxed);
+            grew(layout.size());
         }
         p
     }
@@ -41,7 +43,7 @@ unsafe impl GlobalAlloc for CountingAlloc {
         // SAFETY: forwarded as is.
         let p = unsafe { System.alloc_zeroed(layout) };
         if !p.is_null() {
-            LIVE.fetch_add(layout.size(), Ordering::Relaxed);
+            grew(layout.size());
         }
         p
     }
@@ -54,11 +56,36 @@ unsafe impl GlobalAlloc for CountingAlloc {
         // SAFETY: forwarded as is.
         let p = unsafe { System.realloc(ptr, layout, new_size) };
         if !p.is_null() {
-            LIVE.fetch_add(new_size, Ordering::Relaxed);
-            LIVE.fetch_sub(layout.size(), Ordering::Relaxed);
+            let old = layout.size();
+            if new_size >= old {
+                grew(new_size - old);
+            } else {
+                LIVE.fetch_sub(old - new_size, Ordering::Relaxed);
+            }
         }
         p
     }
+}
+
+/// Counts `bytes` more live and raises the peak when passed (a relaxed load on most calls).
+#[inline]
+fn grew(bytes: usize) {
+    let now = LIVE.fetch_add(bytes, Ordering::Relaxed) + bytes;
+    if now > PEAK.load(Ordering::Relaxed) {
+        PEAK.fetch_max(now, Ordering::Relaxed);
+    }
+}
+
+/// The most heap bytes live at once since the last [`reset_peak`] (0 without
+/// [`CountingAlloc`]). Process-wide: with several planners running at once it is their sum.
+pub fn peak_bytes() -> usize {
+    PEAK.load(Ordering::Relaxed)
+}
+
+/// Starts a new peak at the bytes live now (e.g. before one benchmark run; [`peak_bytes`] minus
+/// the live bytes at the reset is then that run's peak heap, when it runs alone).
+pub fn reset_peak() {
+    PEAK.store(LIVE.load(Ordering::Relaxed), Ordering::Relaxed);
 }
 
 /// Sets the limit on live heap bytes (`None`: no limit).

@@ -49,13 +49,7 @@ pub(crate) struct Lns<'a> {
     loss: bool,
 }
 
-/// Agent `goal`'s loss on path `p`: its steps except those from `goal` to `goal` (its cost
-/// minus the waits on its goal before its last arrival).
-pub(crate) fn path_loss(p: &[VertexId], goal: VertexId) -> u64 {
-    p.windows(2)
-        .filter(|w| !(w[0] == goal && w[1] == goal))
-        .count() as u64
-}
+pub(crate) use mrpp_core::mapf::plan::path_loss;
 
 /// A path's cost: the step of its last arrival at `goal` (its length - 1 once trailing waits on
 /// the goal are cut).

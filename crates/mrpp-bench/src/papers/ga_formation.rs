@@ -294,6 +294,7 @@ impl Sweep for GaFormation {
             sum_of_moves: None,
             runtime_ms: 0.0,
             note: String::new(),
+            ..Default::default()
         };
         vec![
             rec("sequential", Some(r.sequential), 0),

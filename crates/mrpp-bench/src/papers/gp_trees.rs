@@ -656,6 +656,7 @@ fn pair_records(
         sum_of_moves: m.sum_of_moves,
         runtime_ms: m.runtime_ms,
         note: String::new(),
+        ..Default::default()
     };
     vec![
         rec(mrpp_trees::psw::NAME, String::new(), psw),

@@ -397,6 +397,7 @@ impl Sweep for HbmoNavigation {
             sum_of_moves: None,
             runtime_ms: r.runtime_ms,
             note: String::new(),
+            ..Default::default()
         }]
     }
     fn pages(&self, rows: &[&NavRow], m: &Manifest) -> Result<Vec<(String, String)>> {

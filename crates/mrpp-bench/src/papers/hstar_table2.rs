@@ -311,6 +311,7 @@ impl Sweep for Table2 {
             sum_of_moves: r.moves,
             runtime_ms: r.runtime_ms,
             note: String::new(),
+            ..Default::default()
         }]
     }
 

@@ -16,6 +16,28 @@ pub struct Plan {
     pub paths: Vec<Vec<VertexId>>,
 }
 
+impl Plan {
+    /// Sum of loss (the objective of LaCAM\* and lacam3, Okumura, IJCAI 2023): per agent, its
+    /// steps except the waits on its goal ([`path_loss`]), summed. `goals` holds one goal per
+    /// path.
+    pub fn sum_of_loss(&self, goals: &[VertexId]) -> u64 {
+        self.paths
+            .iter()
+            .zip(goals)
+            .map(|(p, &g)| path_loss(p, g))
+            .sum()
+    }
+}
+
+/// Agent `goal`'s loss on path `p`: its steps except those from `goal` to `goal` (its cost
+/// minus the waits on its goal before its last arrival). A path that ends early stays on its
+/// last vertex, which adds nothing.
+pub fn path_loss(p: &[VertexId], goal: VertexId) -> u64 {
+    p.windows(2)
+        .filter(|w| !(w[0] == goal && w[1] == goal))
+        .count() as u64
+}
+
 /// When an agent counts as done.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize, Default)]
 #[serde(rename_all = "lowercase")]

@@ -68,7 +68,7 @@ pub fn write_lacam(
     let (soc, makespan) = outcome.map_or((0, 0), |(_, m)| (m.sum_of_costs, m.makespan));
     let (soc_lb, makespan_lb) =
         lower_bounds(map.graph(), &inst.starts, &inst.goals).unwrap_or((0, 0));
-    let loss = outcome.map_or(0, |(plan, m)| sum_of_loss(plan, &inst.goals, m.makespan));
+    let loss = outcome.map_or(0, |(plan, _)| plan.sum_of_loss(&inst.goals));
     let mut s = String::new();
     let _ = writeln!(s, "agents={n}");
     let _ = writeln!(s, "map_file={}", one_line(map_file));
@@ -118,20 +118,6 @@ pub fn write_lacam(
     s
 }
 
-/// Sum of loss of `plan` over steps `0..makespan`: per agent, the steps that are not a stay on
-/// its goal (a path that has ended stays on its last vertex).
-fn sum_of_loss(plan: &Plan, goals: &[VertexId], makespan: u64) -> u64 {
-    plan.paths
-        .iter()
-        .zip(goals)
-        .map(|(p, &g)| {
-            (0..makespan as usize)
-                .filter(|&t| !(position(p, t) == g && position(p, t + 1) == g))
-                .count() as u64
-        })
-        .sum()
-}
-
 /// Names and solver names go on one `key=value` line; a line break in them would end the line.
 fn one_line(s: &str) -> String {
     s.replace(['\n', '\r'], " ")
@@ -172,7 +158,7 @@ impl LacamClaims {
         sum_of_costs: u64,
         makespan: u64,
     ) -> Result<()> {
-        let loss = || sum_of_loss(plan, goals, makespan);
+        let loss = || plan.sum_of_loss(goals);
         for (key, claim, actual) in [
             ("soc", self.soc, sum_of_costs),
             ("makespan", self.makespan, makespan),
