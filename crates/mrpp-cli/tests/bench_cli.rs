@@ -434,6 +434,18 @@ fn movingai_full_counts_13900_jobs_without_the_data() {
         0,
     );
     assert!(out.contains("556 jobs (33 instance specs"), "{out}");
+    // The LaCAM* quality comparison: 14 instances, one planner (its peers come as flags).
+    let (out, _) = mrpp_exits(
+        &[
+            "bench",
+            "run",
+            "--config",
+            "bench/configs/lacam-star-quality.toml",
+            "--dry-run",
+        ],
+        0,
+    );
+    assert!(out.contains("14 jobs (8 instance specs"), "{out}");
 
     // A config naming files that are not there: --dry-run says so, a run fails naming one.
     let dir = tmp("full-missing");
