@@ -1,7 +1,9 @@
 //! Pictures of a plan drawn from the viewer's scene ([`crate::view`]), as SVG: one frame at a
 //! time step (what `render --gif` animates) or the whole plan (every agent's route, starts as
 //! discs, goals as squares; the static picture of families without their own, e.g. trees). The
-//! colours are the page's.
+//! colours are the page's. Lifelong runs draw what the page draws: under `MAPF_T` a heading tick
+//! on each disc, the task id above each errand when there is room, and the scene's series (tasks
+//! finished over the steps) as a small chart in the bottom-right corner, the frame's step marked.
 
 use mrpp_core::picture::{agent_colour as colour, wait_runs};
 use serde_json::Value;
@@ -55,16 +57,112 @@ pub(crate) fn frame_svg(scene: &Value, t: usize) -> String {
 /// Agent `a`'s goal at step `t` (`None`: the whole plan): its `goal`, or in a lifelong run's
 /// frame the entry of its `goals` change list in force at `t` (`None` when it has no task).
 fn goal_at(scene: &Value, a: &Value, t: Option<usize>) -> Option<[f64; 2]> {
-    let (Some(t), Some(changes)) = (t, a["goals"].as_array()) else {
+    let (Some(t), Some(_)) = (t, a["goals"].as_array()) else {
         return Some(point(&a["goal"]));
     };
-    let entry = changes
-        .iter()
-        .take_while(|c| c[0].as_u64().is_some_and(|s| s as usize <= t))
-        .last()?;
-    let cell = entry[1].as_i64().filter(|&c| c >= 0)?;
+    let cell = change_at(a, "goals", t)?
+        .get(1)?
+        .as_i64()
+        .filter(|&c| c >= 0)?;
     let w = scene["cells"]["width"].as_i64().filter(|&w| w > 0)?;
     Some([(cell % w) as f64 + 0.5, (cell / w) as f64 + 0.5])
+}
+
+/// The entry of agent `a`'s change list `key` (`goals`, `headings`) in force at step `t`.
+fn change_at<'a>(a: &'a Value, key: &str, t: usize) -> Option<&'a Vec<Value>> {
+    a[key]
+        .as_array()?
+        .iter()
+        .take_while(|c| c[0].as_u64().is_some_and(|s| s as usize <= t))
+        .last()?
+        .as_array()
+}
+
+/// Agent `a`'s heading at step `t` in a lifelong run under `MAPF_T` as a unit step on the
+/// screen's grid (0 east, 1 south, 2 west, 3 north; rows grow down), or `None`.
+fn heading_at(a: &Value, t: usize) -> Option<[f64; 2]> {
+    let h = change_at(a, "headings", t)?.get(1)?.as_u64()?;
+    [[1.0, 0.0], [0.0, 1.0], [-1.0, 0.0], [0.0, -1.0]]
+        .get(h as usize)
+        .copied()
+}
+
+/// Agent `a`'s task id at step `t` in a lifelong run, or `None` (no task, or not lifelong).
+fn task_at(a: &Value, t: usize) -> Option<i64> {
+    change_at(a, "goals", t)?
+        .get(2)?
+        .as_i64()
+        .filter(|&k| k >= 0)
+}
+
+/// The scene's series (lifelong: tasks finished after each step) as a 240 x 110 px chart in the
+/// bottom-right corner of a `w` x `h` px world, step `t` marked (none: the whole run).
+fn series_svg(scene: &Value, t: Option<usize>, w: f64, h: f64) -> String {
+    use std::fmt::Write as _;
+    let Some(values) = scene["series"]["values"].as_array() else {
+        return String::new();
+    };
+    let v: Vec<f64> = values.iter().map(|x| x.as_f64().unwrap_or(0.0)).collect();
+    if v.len() < 2 || w < 260.0 || h < 130.0 {
+        return String::new();
+    }
+    let name = scene["series"]["name"].as_str().unwrap_or("");
+    let unit = scene["unit"].as_str().unwrap_or("step");
+    let (cw, ch, pad) = (240.0, 110.0, 28.0);
+    let (x0, y0) = (w - cw - 10.0, h - ch - 10.0);
+    let top = v.iter().copied().fold(1.0, f64::max);
+    let last = v.len() - 1;
+    let px = |k: usize| x0 + pad + (cw - pad - 8.0) * k as f64 / last as f64;
+    let py = |y: f64| y0 + ch - 16.0 - (ch - 42.0) * y / top;
+    let stride = (v.len() / 400).max(1);
+    let line: Vec<String> = (0..v.len())
+        .step_by(stride)
+        .chain(std::iter::once(last))
+        .map(|k| format!("{:.1},{:.1}", px(k), py(v[k])))
+        .collect();
+    let mut s = String::new();
+    let _ = write!(
+        s,
+        r##"<g font-family="sans-serif" font-size="10" fill="#333"><rect x="{x0:.1}" y="{y0:.1}" width="{cw}" height="{ch}" fill="#fff" fill-opacity="0.92" stroke="#999"/><path d="M{:.1},{:.1}H{:.1}M{:.1},{:.1}V{:.1}" stroke="#999" fill="none"/><text x="{:.1}" y="{:.1}" text-anchor="end">0</text><text x="{:.1}" y="{:.1}" text-anchor="end">{top}</text><text x="{:.1}" y="{:.1}" text-anchor="middle">{unit}</text><text x="{:.1}" y="{:.1}" text-anchor="middle">{last}</text><polyline points="{}" fill="none" stroke="#1565c0" stroke-width="1.5"/>"##,
+        px(0),
+        py(0.0),
+        px(last),
+        px(0),
+        py(0.0),
+        py(top),
+        px(0) - 3.0,
+        py(0.0) + 3.0,
+        px(0) - 3.0,
+        py(top) + 3.0,
+        (px(0) + px(last)) / 2.0,
+        py(0.0) + 12.0,
+        px(last),
+        py(0.0) + 12.0,
+        line.join(" ")
+    );
+    let (k, label) = match t {
+        Some(t) => {
+            let k = t.min(last);
+            (Some(k), format!("{name}: {} at {unit} {k}", v[k]))
+        }
+        None => (None, format!("{name}: {} after {last} {unit}s", v[last])),
+    };
+    if let Some(k) = k {
+        let _ = write!(
+            s,
+            r##"<line x1="{0:.1}" y1="{1:.1}" x2="{0:.1}" y2="{2:.1}" stroke="#d00"/>"##,
+            px(k),
+            py(0.0),
+            py(top)
+        );
+    }
+    let _ = write!(
+        s,
+        r##"<text x="{:.1}" y="{:.1}" font-size="11" fill="#111">{label}</text></g>"##,
+        x0 + 6.0,
+        y0 + 14.0
+    );
+    s
 }
 
 /// The whole plan as SVG: routes, starts and goals.
@@ -162,6 +260,15 @@ fn draw(scene: &Value, t: Option<usize>) -> String {
             colour(i),
             (scale * 0.08).max(1.0)
         );
+        if let Some(task) = t.and_then(|t| task_at(a, t)).filter(|_| g >= 6.0) {
+            let _ = write!(
+                s,
+                r##"<text x="{gx:.2}" y="{:.2}" font-size="{:.1}" font-family="sans-serif" text-anchor="middle" fill="{}">task {task}</text>"##,
+                gy - g - 2.0,
+                g.min(12.0),
+                colour(i)
+            );
+        }
     }
     if t.is_none() {
         // Every agent's route, under the discs.
@@ -231,6 +338,17 @@ fn draw(scene: &Value, t: Option<usize>) -> String {
             r##"<circle cx="{sx:.2}" cy="{sy:.2}" r="{r:.2}" fill="{}"/>"##,
             colour(i)
         );
+        if let Some([dx, dy]) = heading_at(a, t.unwrap_or(0)).filter(|_| r >= 3.0) {
+            let _ = write!(
+                s,
+                r##"<line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="#111" stroke-width="{:.2}"/>"##,
+                sx + dx * r * 0.35,
+                sy + dy * r * 0.35,
+                sx + dx * r * 1.15,
+                sy + dy * r * 1.15,
+                (r * 0.3).max(1.5)
+            );
+        }
         if r >= 7.0 {
             let _ = write!(
                 s,
@@ -240,6 +358,7 @@ fn draw(scene: &Value, t: Option<usize>) -> String {
             );
         }
     }
+    s.push_str(&series_svg(scene, t, w, h));
     if let Some(t) = t {
         let y = h + band / 2.0;
         let _ = write!(
@@ -344,5 +463,55 @@ mod tests {
             (None, None, Some([2.5, 0.5]), Some([2.5, 0.5]))
         );
         assert_eq!(goal_at(&scene, &scene["agents"][0], None), Some([0.5, 0.5]));
+    }
+
+    #[test]
+    fn a_lifelong_frame_draws_headings_task_ids_and_the_tasks_finished_chart() {
+        // A 10 x 5 grid (80 px cells): the robot faces east, then south from step 1; its task
+        // 7 is on cell 9 from step 0; 0, 0, 1 tasks finished after steps 0-2.
+        let scene = serde_json::json!({
+            "bounds": [0.0, 0.0, 10.0, 5.0],
+            "cells": {"width": 10, "height": 5, "rows": vec![".........."; 5]},
+            "series": {"name": "tasks finished", "values": [0, 0, 1]},
+            "agents": [{"radius": 0.4, "start": [0.5, 0.5], "goal": [0.5, 0.5],
+                "cells": [0, 0, 10], "goals": [[0, 9, 7], [2, -1, -1]],
+                "headings": [[0, 0], [1, 1]]}]
+        });
+        let tick = |t| {
+            let svg = frame_svg(&scene, t);
+            let l = svg.split(r##"<line x1=""##).nth(1).unwrap().to_string();
+            let n: Vec<f64> = l
+                .split('"')
+                .filter_map(|x| x.parse().ok())
+                .take(4)
+                .collect();
+            (n[2] - n[0], n[3] - n[1])
+        };
+        // Disc at (40, 40), radius 32: the tick runs from 0.35 r to 1.15 r along the heading.
+        let (dx, dy) = tick(0);
+        assert!(
+            (dx - 25.6).abs() < 0.1 && dy.abs() < 1e-9,
+            "east: {dx} {dy}"
+        );
+        let (dx, dy) = tick(1);
+        assert!(
+            dx.abs() < 1e-9 && (dy - 25.6).abs() < 0.1,
+            "south: {dx} {dy}"
+        );
+        assert!(frame_svg(&scene, 1).contains(">task 7</text>"));
+        assert!(
+            !frame_svg(&scene, 2).contains(">task "),
+            "no task at step 2"
+        );
+        assert!(frame_svg(&scene, 2).contains(">tasks finished: 1 at step 2</text>"));
+        assert!(paths_svg(&scene).contains(">tasks finished: 1 after 2 steps</text>"));
+        // A scene without headings or series draws neither.
+        let plain = serde_json::json!({"bounds": [0.0, 0.0, 10.0, 5.0],
+            "agents": [{"radius": 0.4, "start": [0.5, 0.5], "goal": [0.5, 0.5], "path": [[0.5, 0.5]]}]});
+        let svg = frame_svg(&plain, 0);
+        assert!(
+            !svg.contains("<line") && !svg.contains("<polyline"),
+            "{svg}"
+        );
     }
 }
