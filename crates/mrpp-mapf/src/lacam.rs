@@ -29,16 +29,22 @@
 //! first-solution time, its cost, the final cost and whether it is proven optimal are the
 //! planner's notes (kept in the plan file).
 //!
-//! mrpp's extension (`-p refine=lns`, default; sum of loss and sum of costs): LaCAM* alone
-//! improves large instances slowly, so between its search rounds (every 8 iterations) the best
-//! plan also goes through 16 steps of large-neighbourhood search ([`crate::lns`], MAPF-LNS), which
-//! lowers its sum of costs; a LaCAM* plan of lower sum of costs replaces the LNS plan. The
-//! returned plan is the better of the two on the objective (sum of loss: ties to the lower sum of
-//! costs), and `final_cost` is its value. lacam3 refines its plans the same way
-//! (Engineering LaCAM*, AAMAS 2024). `-p refine=none` is LaCAM* as published. `-p
-//! refine=lns_loss` makes the LNS keep only steps that lower the sum of loss: its re-planned
-//! paths are earliest-arrival ones, so it rarely beats a search plan whose agents rest on their
-//! goals before stepping aside (measured in docs/performance.md; not the default).
+//! mrpp's extension (`-p refine`, sum of loss and sum of costs): LaCAM* alone improves large
+//! instances slowly, so between its search rounds (every 8 iterations) the best plan also goes
+//! through 16 steps of large-neighbourhood search ([`crate::lns`], MAPF-LNS); a LaCAM* plan
+//! better on the LNS's measure replaces the LNS plan. The returned plan is the better of the two
+//! on the objective (sum of loss: ties to the lower sum of costs), and `final_cost` is its value.
+//! lacam3 refines its plans the same way (Engineering LaCAM*, AAMAS 2024). `refine=lns` makes
+//! the LNS lower the sum of costs; `refine=lns_loss` keeps only its steps that lower the sum of
+//! loss (its re-planned paths are earliest-arrival ones). Neither wins everywhere (measured after
+//! 30 s, docs/benchmark.md): on random-32-32-20 and den312d with 400 agents (16-49% of the
+//! vertices covered) `lns` ended 14-24% lower in sum of loss, while on den520d,
+//! warehouse-20-40-10-2-1 and Paris_1_256 with 700-1,000 agents (1.5-3.5% covered) `lns_loss`
+//! ended lower in both sums: there an LNS step re-plans long paths (656 steps in 30 s on den520d
+//! with 1,000 agents against 28,592 on random-32-32-20 with 400), too few for the sum-of-costs
+//! LNS to move the sum of loss at all. So the default, `refine=auto`, takes `lns_loss` with the
+//! sum-of-loss objective below [`AUTO_LOSS_BELOW`] (8%) of the vertices covered, `lns` otherwise.
+//! `-p refine=none` is LaCAM* as published.
 //!
 //! Where the papers are silent: priorities tie by agent id; the deadline is checked before every
 //! expansion; without a deadline an anytime search runs until it proves optimality.
@@ -92,8 +98,8 @@ pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
         },
         Param {
             name: "refine",
-            default: "lns",
-            doc: "LaCAM* (sum_of_loss, sum_of_costs): lns = also improve the best plan's sum of costs by large-neighbourhood search (MAPF-LNS, IJCAI 2021); lns_loss = LNS that keeps only steps lowering the sum of loss (with objective=sum_of_loss; measured: 0.5% lower sum of loss on warehouse-20-40-10-2-2 with 700 agents, 14-24% higher on den312d and random-32-32-20 with 400, docs/performance.md); none = LaCAM* alone",
+            default: "auto",
+            doc: "LaCAM* (sum_of_loss, sum_of_costs): lns = also improve the best plan's sum of costs by large-neighbourhood search (MAPF-LNS, IJCAI 2021); lns_loss = LNS that keeps only steps lowering the sum of loss (with objective=sum_of_loss); auto = lns_loss with objective=sum_of_loss when the agents cover less than 8% of the vertices, else lns (measured after 30 s: lns_loss lower in both sums on den520d, warehouse-20-40-10-2-1 and Paris_1_256 with 700-1,000 agents, 1.5-3.5% covered; 14-24% higher sum of loss on den312d and random-32-32-20 with 400, 16-49% covered; docs/benchmark.md); none = LaCAM* alone",
         },
         Param {
             name: "restart_rate",
@@ -109,14 +115,14 @@ pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             Objective::Makespan,
         ][p.choice("objective", &["sum_of_loss", "sum_of_costs", "makespan"])?];
         let restart_rate: f64 = p.get_in("restart_rate", 0.0..=1.0)?;
-        let refine = p.choice("refine", &["lns", "none", "lns_loss"])?;
+        let refine = [Refine::Cost, Refine::None, Refine::Loss, Refine::Auto]
+            [p.choice("refine", &["lns", "none", "lns_loss", "auto"])?];
         Ok(Box::new(Lacam {
             anytime,
             objective,
             restart_rate,
             tricks: Tricks::from_params(p)?,
-            refine: refine != 1,
-            refine_loss: refine == 2,
+            refine,
             ..Lacam::default()
         }))
     },
@@ -157,14 +163,33 @@ pub struct Lacam {
     pub restart_rate: f64,
     /// Refinements of the PIBT generator.
     pub tricks: Tricks,
-    /// LaCAM* with the sum-of-loss or sum-of-costs objective: improve the best plan by
-    /// large-neighbourhood search between search rounds ([`crate::lns`]).
-    pub refine: bool,
-    /// With `refine` and the sum-of-loss objective: the LNS keeps only steps that lower the
-    /// sum of loss (`-p refine=lns_loss`), instead of the sum of costs.
-    pub refine_loss: bool,
+    /// LaCAM* with the sum-of-loss or sum-of-costs objective: how the best plan is improved
+    /// between search rounds ([`Refine`]).
+    pub refine: Refine,
     last: Mutex<Option<Report>>,
 }
+
+/// LaCAM*'s refinement between search rounds (`-p refine`; module doc): large-neighbourhood
+/// search ([`crate::lns`]) on the plan found so far.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Refine {
+    /// LaCAM* as published (`none`).
+    None,
+    /// An LNS that lowers the sum of costs (`lns`).
+    Cost,
+    /// With the sum-of-loss objective, an LNS that keeps only steps lowering the sum of loss
+    /// (`lns_loss`); with the others as [`Refine::Cost`].
+    Loss,
+    /// [`Refine::Loss`] with the sum-of-loss objective when the agents cover less than
+    /// [`AUTO_LOSS_BELOW`] of the vertices, else [`Refine::Cost`] (`auto`, the default).
+    Auto,
+}
+
+/// `refine=auto`'s line: below this share of the vertices covered by agents the LNS lowers the
+/// sum of loss. Measured on either side of it (docs/benchmark.md): at 1.5-3.5% the
+/// sum-of-loss LNS ended lower in both sums on all four instances tried, at 16% and 49% the
+/// sum-of-costs LNS ended 14-24% lower in sum of loss; between the two nothing was measured.
+pub const AUTO_LOSS_BELOW: f64 = 0.08;
 
 impl Default for Lacam {
     /// LaCAM (first plan), sum of loss, restart rate 0.001, swap and hindrance on.
@@ -177,8 +202,7 @@ impl Default for Lacam {
                 swap: true,
                 hindrance: true,
             },
-            refine: true,
-            refine_loss: false,
+            refine: Refine::Auto,
             last: Mutex::new(None),
         }
     }
@@ -359,7 +383,8 @@ fn search_within(
     // Sum of costs: the search's plan of least sum of costs so far (its best on sum of loss
     // need not be).
     let mut best_soc: Option<(u64, Vec<Vec<VertexId>>)> = None;
-    let refine = lacam.anytime && lacam.refine && lacam.objective != Objective::Makespan;
+    let refine =
+        lacam.anytime && lacam.refine != Refine::None && lacam.objective != Objective::Makespan;
     let soc = lacam.objective == Objective::SumOfCosts;
     let mut lns: Option<Lns> = None;
     let mut iterations = 0u64;
@@ -425,7 +450,13 @@ fn search_within(
                 break;
             }
             if refine {
-                let loss = lacam.refine_loss && lacam.objective == Objective::SumOfLoss;
+                let sparse = (goals.len() as f64) < AUTO_LOSS_BELOW * graph.num_vertices() as f64;
+                let loss = lacam.objective == Objective::SumOfLoss
+                    && match lacam.refine {
+                        Refine::Loss => true,
+                        Refine::Auto => sparse,
+                        Refine::Cost | Refine::None => false,
+                    };
                 lns = Some(Lns::new(
                     graph,
                     goals,
@@ -1048,17 +1079,16 @@ mod tests {
             }
             total
         };
-        for (refine, refine_loss) in [(true, false), (false, false), (true, true)] {
+        for refine in [Refine::Cost, Refine::None, Refine::Loss, Refine::Auto] {
             for objective in [Objective::SumOfLoss, Objective::SumOfCosts] {
                 let planner = Lacam {
                     refine,
-                    refine_loss,
                     ..Lacam::star(objective)
                 };
                 let ctx = Ctx::new(1, Deadline::after(std::time::Duration::from_millis(300)));
                 let s = solve(&planner, &p, &ctx).unwrap();
                 let r = planner.report().unwrap();
-                let what = format!("{objective:?}, refine {refine} ({refine_loss}): {r:?}");
+                let what = format!("{objective:?}, refine {refine:?}: {r:?}");
                 let measured = match objective {
                     Objective::SumOfCosts => s.metrics.sum_of_costs,
                     _ => loss(&s.plan),
