@@ -12,7 +12,7 @@ mrpp's), 0 otherwise. Runs that end unsolved are counted, not checked. With `--b
 checker also computes the lower bound of the sum of costs and of the makespan by its own
 breadth-first searches, and both must equal the ones mrpp prints (the bounds `mrpp bench`
 records); when mrpp prints the plan's sum of loss (LaCAM's `final_sum_of_loss`), it must equal
-the checker's.
+the checker's, and the summary says on how many plans it was compared.
 
 Usage:
   python3 tools/check/bench_plans.py CONFIG.toml --out DIR [--mrpp PATH] [--planner lacam]
@@ -111,7 +111,8 @@ def one(args, job):
             return name, "rejected", f"mrpp printed no {key}"
         if mine and (not checked or mine[1] != checked[1]):
             return name, "rejected", f"{key}: mrpp {mine[1]}, grid.py {checked and checked[1]}"
-    return name, "accepted", text.splitlines()[-1] if text else ""
+    loss = "loss compared" if re.search(pairs[0][1], r.stdout, re.M) else "loss not printed"
+    return name, "accepted", f"({loss}) " + (text.splitlines()[-1] if text else "")
 
 
 def main():
@@ -136,13 +137,15 @@ def main():
         print(f"{len(missing)} map or scenario files are missing, e.g. {missing[0]}", file=sys.stderr)
         return 1
     os.makedirs(args.out, exist_ok=True)
-    tally = {"accepted": 0, "rejected": 0, "unsolved": 0}
+    tally = {"accepted": 0, "rejected": 0, "unsolved": 0, "loss": 0}
     with concurrent.futures.ThreadPoolExecutor(max_workers=max(1, args.jobs)) as pool:
         for name, status, note in pool.map(lambda j: one(args, j), jobs):
             tally[status] += 1
+            tally["loss"] += note.startswith("(loss compared)")
             print(f"{name}: {status} {note}", flush=True)
     print(f"{len(jobs)} instances: {tally['accepted']} plans accepted by grid.py, "
-          f"{tally['rejected']} rejected, {tally['unsolved']} unsolved")
+          f"{tally['rejected']} rejected, {tally['unsolved']} unsolved; the sum of loss "
+          f"compared with mrpp's on {tally['loss']} (the others' planner prints none)")
     return 1 if tally["rejected"] else 0
 
 

@@ -99,7 +99,8 @@ pub struct RunRecord {
     /// Wall time of the planner (machine-dependent).
     pub runtime_ms: f64,
     /// Why a peer failed (`peer_failed`): its exit status and the first lines of its stderr;
-    /// empty otherwise. The last column, so the columns before it keep their places.
+    /// empty otherwise. The columns after it were added later, each with a default, so older
+    /// `records.csv` files still read.
     #[serde(default)]
     pub note: String,
     /// Milliseconds to the first plan: the planner's own count when it reports one (LaCAM\*'s
@@ -124,8 +125,8 @@ pub struct RunRecord {
     #[serde(default)]
     pub sum_of_loss_ratio: Option<f64>,
     /// Peak memory of the run in MB (10^6 bytes): for mrpp's planners the most heap bytes live
-    /// during the run above those live at its start ([`mrpp_core::memory::peak_bytes`]; exact
-    /// with `--jobs 1`, with more jobs it includes the others'); for a peer the peak resident set
+    /// during the run above those live at its start ([`mrpp_core::memory::peak_bytes`]; recorded
+    /// only with `--jobs 1`, as the count is process-wide); for a peer the peak resident set
     /// of its process (`ru_maxrss`). Empty where a sweep does not measure it.
     #[serde(default)]
     pub peak_memory_mb: Option<f64>,
@@ -684,20 +685,20 @@ pub fn run_peer_command(
             .stdout(std::process::Stdio::null())
             .stderr(stderr)
             .spawn()
-            .map(|mut child| {
+            .and_then(|mut child| {
                 loop {
-                    match reap(&child) {
-                        Ok(Some(done)) => break Some(done),
-                        Ok(None) if started.elapsed() < limit => {
+                    match reap(&child)? {
+                        Some(done) => break Ok(Some(done)),
+                        None if started.elapsed() < limit => {
                             std::thread::sleep(std::time::Duration::from_millis(5))
                         }
-                        _ => {
+                        None => {
                             let _ = std::process::Command::new("kill")
                                 .args(["-KILL", "--", &format!("-{}", child.id())])
                                 .status();
                             let _ = child.kill();
                             let _ = reap_blocking(&child);
-                            break None;
+                            break Ok(None);
                         }
                     }
                 }
@@ -709,7 +710,7 @@ pub fn run_peer_command(
     let status = match finished {
         Err(e) => {
             return PeerRun::Failed {
-                note: format!("cannot start `sh -c {command}`: {e}"),
+                note: format!("cannot start or wait for `sh -c {command}`: {e}"),
                 wall_ms,
             };
         }
@@ -781,7 +782,12 @@ fn wait4(child: &std::process::Child, options: libc::c_int) -> std::io::Result<O
         match got {
             0 => return Ok(None),
             p if p == pid => {
-                let kb = u64::try_from(usage.ru_maxrss).ok().filter(|&kb| kb > 0);
+                // Linux reports `ru_maxrss` in KiB, macOS in bytes.
+                let unit = if cfg!(target_os = "macos") { 1024 } else { 1 };
+                let kb = u64::try_from(usage.ru_maxrss)
+                    .ok()
+                    .map(|v| v / unit)
+                    .filter(|&kb| kb > 0);
                 return Ok(Some((std::process::ExitStatus::from_raw(status), kb)));
             }
             _ => {

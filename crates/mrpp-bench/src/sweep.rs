@@ -43,8 +43,8 @@
 //! `comp_time_initial_solution`, else the runtime), its sum of loss, the lower bounds of the sum
 //! of costs and loss (the agents' shortest-path distances summed) and of the makespan (their
 //! largest; `mrpp solve` prints the same), the two ratios to the bound, and its peak memory: the heap bytes an mrpp planner
-//! had live at most above those live when it started (counted by the binary's allocator; with
-//! `--jobs 1` only that run's), or a peer process's peak resident set (`ru_maxrss`, which also
+//! had live at most above those live when it started (counted by the binary's allocator, so
+//! recorded only with `--jobs 1`: with more jobs at once the count would hold theirs too), or a peer process's peak resident set (`ru_maxrss`, which also
 //! counts its code and libraries, so the two are not the same measure). The bounds take one
 //! shortest-path search per agent, once per instance, before the first run's clock starts.
 //!
@@ -596,6 +596,9 @@ impl Sweep for GridSweep {
         let outcome = solve(planner.as_ref(), &inst.problem, &ctx);
         let runtime_ms = started.elapsed().as_secs_f64() * 1e3;
         let peak = mrpp_core::memory::peak_bytes().saturating_sub(live);
+        // The counter is process-wide: with other jobs running beside this one it would hold
+        // their bytes too, so the peak is only recorded when jobs run one at a time.
+        let alone = crate::harness::threads() == 1;
         let m = match &outcome {
             Err(Unsolved::Invalid(why)) => return Err(Error::Internal(why.clone())),
             Err(_) => None,
@@ -617,7 +620,7 @@ impl Sweep for GridSweep {
             makespan: m.map(|m| m.makespan),
             sum_of_moves: m.map(|m| m.sum_of_moves),
             runtime_ms,
-            peak_memory_mb: (peak > 0).then(|| peak as f64 / 1e6),
+            peak_memory_mb: (alone && peak > 0).then(|| peak as f64 / 1e6),
             ..Default::default()
         };
         if let Ok(solved) = &outcome {

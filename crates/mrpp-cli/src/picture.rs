@@ -69,13 +69,12 @@ fn goal_at(scene: &Value, a: &Value, t: Option<usize>) -> Option<[f64; 2]> {
 }
 
 /// The entry of agent `a`'s change list `key` (`goals`, `headings`) in force at step `t`.
+/// The list is in step order, so a binary search finds it (a frame of a long run looks up every
+/// agent).
 fn change_at<'a>(a: &'a Value, key: &str, t: usize) -> Option<&'a Vec<Value>> {
-    a[key]
-        .as_array()?
-        .iter()
-        .take_while(|c| c[0].as_u64().is_some_and(|s| s as usize <= t))
-        .last()?
-        .as_array()
+    let list = a[key].as_array()?;
+    let n = list.partition_point(|c| c[0].as_u64().is_some_and(|s| s as usize <= t));
+    list.get(n.checked_sub(1)?)?.as_array()
 }
 
 /// Agent `a`'s heading at step `t` in a lifelong run under `MAPF_T` as a unit step on the
@@ -339,6 +338,8 @@ fn draw(scene: &Value, t: Option<usize>) -> String {
             colour(i)
         );
         if let Some([dx, dy]) = heading_at(a, t.unwrap_or(0)).filter(|_| r >= 3.0) {
+            // Headings are in the grid's rows-grow-down frame; a y-up scene turns them over.
+            let dy = if y_up { -dy } else { dy };
             let _ = write!(
                 s,
                 r##"<line x1="{:.2}" y1="{:.2}" x2="{:.2}" y2="{:.2}" stroke="#111" stroke-width="{:.2}"/>"##,

@@ -562,6 +562,10 @@ fn every_plan_of_a_config_passes_the_independent_checker() {
         out.contains("4 instances: 4 plans accepted by grid.py, 0 rejected, 0 unsolved"),
         "{out}"
     );
+    assert!(
+        out.contains("sum of loss compared with mrpp's on 4 "),
+        "{out}"
+    );
     // Each accepted line ends with the checker's JSON, bounds and sum of loss included.
     assert_eq!(
         out.matches("\"makespan_lower_bound\": ").count(),
