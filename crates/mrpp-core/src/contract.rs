@@ -19,6 +19,17 @@ impl Deadline {
     pub fn after(limit: Duration) -> Self {
         Deadline(Instant::now().checked_add(limit))
     }
+    /// The part `share` (in `0..=1`) of the time left (no limit stays no limit): e.g. a
+    /// preparation step that may take half of what remains.
+    pub fn share(&self, share: f64) -> Self {
+        match self.0 {
+            None => Deadline(None),
+            Some(d) => {
+                let left = d.saturating_duration_since(Instant::now());
+                Deadline::after(left.mul_f64(share.clamp(0.0, 1.0)))
+            }
+        }
+    }
     /// Whether the limit has passed, the process's memory limit is exceeded
     /// ([`crate::memory`]) or a stop was requested ([`request_stop`], e.g. Ctrl-C): every
     /// planner stops at any of them the same way (anytime planners with their best plan).

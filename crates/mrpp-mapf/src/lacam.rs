@@ -102,6 +102,16 @@ pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             doc: "LaCAM* (sum_of_loss, sum_of_costs): lns = also improve the best plan's sum of costs by large-neighbourhood search (MAPF-LNS, IJCAI 2021); lns_loss = LNS that keeps only steps lowering the sum of loss (with objective=sum_of_loss); auto = lns_loss with objective=sum_of_loss when the agents cover less than 8% of the vertices, else lns (measured after 30 s: lns_loss lower in sum of loss on den520d, warehouse-20-40-10-2-1 and Paris_1_256 with 400-1,000 agents, 0.8-4.1% covered; 14-24% higher sum of loss on den312d and random-32-32-20 with 400, 16-49% covered; docs/benchmark.md); none = LaCAM* alone",
         },
         Param {
+            name: "scatter",
+            default: "auto",
+            doc: "PIBT follows each agent's space-utilisation path when on it (SUO, Han & Yu, ICRA 2022; lacam3's scatter, Engineering LaCAM*, AAMAS 2024): paths at most scatter_margin steps longer than the shortest, crossing the others' as seldom as possible, computed before the search in at most half the time limit; auto = on for LaCAM* (anytime=true), off for LaCAM (its first plan comes sooner without); on; off",
+        },
+        Param {
+            name: "scatter_margin",
+            default: "10",
+            doc: "scatter: steps a preferred path may be longer than the agent's shortest (0-1000)",
+        },
+        Param {
             name: "restart_rate",
             default: "0.001",
             doc: "LaCAM*: probability of re-pushing the start node instead of a re-reached one",
@@ -117,12 +127,17 @@ pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
         let restart_rate: f64 = p.get_in("restart_rate", 0.0..=1.0)?;
         let refine = [Refine::Cost, Refine::None, Refine::Loss, Refine::Auto]
             [p.choice("refine", &["lns", "none", "lns_loss", "auto"])?];
+        let scatter = [Scatter::Auto, Scatter::On, Scatter::Off]
+            [p.choice("scatter", &["auto", "on", "off"])?];
+        let scatter_margin: u32 = p.get_in("scatter_margin", 0..=1000)?;
         Ok(Box::new(Lacam {
             anytime,
             objective,
             restart_rate,
             tricks: Tricks::from_params(p)?,
             refine,
+            scatter,
+            scatter_margin,
             ..Lacam::default()
         }))
     },
@@ -166,7 +181,21 @@ pub struct Lacam {
     /// LaCAM* with the sum-of-loss or sum-of-costs objective: how the best plan is improved
     /// between search rounds ([`Refine`]).
     pub refine: Refine,
+    /// Whether PIBT follows space-utilisation paths ([`Scatter`]).
+    pub scatter: Scatter,
+    /// Steps a space-utilisation path may be longer than the agent's shortest.
+    pub scatter_margin: u32,
     last: Mutex<Option<Report>>,
+}
+
+/// Whether LaCAM's PIBT follows space-utilisation paths (`-p scatter`; [`crate::scatter`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Scatter {
+    /// On for LaCAM* (`anytime`), off for LaCAM, whose first plan comes sooner without (`auto`,
+    /// the default).
+    Auto,
+    On,
+    Off,
 }
 
 /// LaCAM*'s refinement between search rounds (`-p refine`; module doc): large-neighbourhood
@@ -203,6 +232,8 @@ impl Default for Lacam {
                 hindrance: true,
             },
             refine: Refine::Auto,
+            scatter: Scatter::Auto,
+            scatter_margin: 10,
             last: Mutex::new(None),
         }
     }
@@ -229,6 +260,8 @@ pub struct Report {
     /// The LNS lowered the sum of loss (`refine=lns_loss`, or `auto` on a sparse instance),
     /// not the sum of costs.
     pub lns_lowers_loss: bool,
+    /// With scatter: seconds it took, and collisions left among its paths.
+    pub scatter: Option<(f64, u64)>,
 }
 
 impl Lacam {
@@ -288,6 +321,10 @@ impl Planner<MapfProblem> for Lacam {
                 };
                 m.insert("lns_lowers".into(), lowers.into());
             }
+            if let Some((secs, collisions)) = r.scatter {
+                m.insert("scatter_ms".into(), ((secs * 1e6).round() / 1e3).into());
+                m.insert("scatter_collisions".into(), collisions.into());
+            }
         }
         m
     }
@@ -329,6 +366,7 @@ struct Search<'a> {
     graph: &'a Graph,
     goals: &'a [VertexId],
     dist: &'a GoalDistances<'a>,
+    scatter: Option<&'a crate::scatter::Scatter>,
     nodes: Vec<Node>,
     by_hash: FxHashMap<u64, u32>,
     occupied_now: Vec<usize>,
@@ -374,9 +412,28 @@ fn search_within(
     if let Some(i) = (0..n).find(|&i| dist.get(i, starts[i]) == UNREACHABLE) {
         return Err(Unsolved::GaveUp(format!("agent {i} cannot reach its goal")));
     }
+    let scatter = match lacam.scatter {
+        Scatter::On => true,
+        Scatter::Off => false,
+        Scatter::Auto => lacam.anytime,
+    }
+    .then(|| {
+        let began = Instant::now();
+        let s = crate::scatter::Scatter::build(
+            graph,
+            starts,
+            goals,
+            &dist,
+            lacam.scatter_margin,
+            mrpp_core::seeds::derive_seed(ctx.seed, "scatter"),
+            ctx.deadline.share(0.5),
+        );
+        (s, began.elapsed().as_secs_f64())
+    });
     let mut s = Search {
         lacam,
         graph,
+        scatter: scatter.as_ref().map(|s| &s.0),
         goals,
         dist: &dist,
         nodes: Vec::new(),
@@ -587,6 +644,7 @@ fn search_within(
         lns_steps: lns.as_ref().map_or(0, |l| l.counts().0),
         lns_improvements: lns.as_ref().map_or(0, |l| l.counts().1),
         lns_lowers_loss: lns.as_ref().is_some_and(|l| l.lowers_loss()),
+        scatter: scatter.as_ref().map(|(s, secs)| (*secs, s.counts().0)),
     };
     Ok((configs, report))
 }
@@ -888,6 +946,7 @@ impl Search<'_> {
             occupied_now: &self.occupied_now,
             occupied_next: &mut self.occupied_next,
             rng: &mut self.rng,
+            scatter: self.scatter,
         };
         let mut ok = true;
         for (&i, &u) in c.who.iter().zip(&c.at) {

@@ -18,5 +18,6 @@ pub mod lns;
 pub mod lorr_files;
 pub mod map;
 pub mod pibt;
+pub(crate) mod scatter;
 
 pub use map::GridMap;

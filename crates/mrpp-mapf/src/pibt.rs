@@ -104,6 +104,9 @@ pub(crate) struct Step<'a> {
     pub(crate) occupied_now: &'a [usize],
     pub(crate) occupied_next: &'a mut [usize],
     pub(crate) rng: &'a mut ChaCha8Rng,
+    /// Preferred paths ([`crate::scatter`]): an agent on its path tries the path's next vertex
+    /// first (LaCAM* with `-p scatter`).
+    pub(crate) scatter: Option<&'a crate::scatter::Scatter>,
 }
 
 /// Candidates of one agent: its vertex and its neighbours, on the stack for degree < 8.
@@ -143,6 +146,11 @@ impl Step<'_> {
             *c = (i64::from(self.dist.get(i, c.3)), hindrance, k, c.3);
         }
         cands.sort_unstable();
+        if let Some(w) = self.scatter.and_then(|s| s.next(i, here))
+            && let Some(k) = cands.iter().position(|c| c.3 == w)
+        {
+            cands[..=k].rotate_right(1);
+        }
         let swap_agent = if self.tricks.swap {
             self.swap_partner(i, cands[0].3)
         } else {
@@ -363,6 +371,7 @@ impl Planner<MapfProblem> for Pibt {
                 occupied_now: &occupied_now,
                 occupied_next: &mut occupied_next,
                 rng: &mut rng,
+                scatter: None,
             };
             for &i in &order {
                 if st.next[i] == VertexId::MAX {
