@@ -22,6 +22,7 @@
 use rand::SeedableRng;
 use rand::seq::{IndexedRandom, SliceRandom};
 use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
 use rustc_hash::FxHashSet;
 
 use mrpp_core::mapf::search::distance::GoalDistances;
@@ -46,6 +47,19 @@ pub(crate) struct Lns<'a> {
     /// Neighbourhood size.
     k: usize,
     /// Lower the sum of loss (module doc) instead of the sum of costs.
+    loss: bool,
+    /// Copies of `res` for the other workers of [`Lns::steps`] (`threads - 1` of them), kept
+    /// equal to it between rounds.
+    replicas: Vec<Reservations>,
+}
+
+/// What a worker of a step needs to read: the graph, the goals and their distance tables, the
+/// current plan, and whether the sum of loss is lowered.
+struct View<'v> {
+    graph: &'v Graph,
+    goals: &'v [VertexId],
+    dist: &'v GoalDistances<'v>,
+    paths: &'v [Vec<VertexId>],
     loss: bool,
 }
 
@@ -86,7 +100,14 @@ impl<'a> Lns<'a> {
             steps: 0,
             improved: 0,
             loss,
+            replicas: Vec::new(),
         }
+    }
+
+    /// Re-plans `threads` neighbourhoods at once in [`Lns::steps`] (default 1).
+    pub(crate) fn with_threads(mut self, threads: usize) -> Self {
+        self.replicas = (1..threads.max(1)).map(|_| self.res.clone()).collect();
+        self
     }
 
     /// The current plan's cost on what it lowers: (sum of loss, sum of costs) with `loss`, else
@@ -108,17 +129,7 @@ impl<'a> Lns<'a> {
         paths: &[Vec<VertexId>],
         agents: impl IntoIterator<Item = usize>,
     ) -> (u64, u64) {
-        let soc: u64 = paths.iter().map(|p| p.len() as u64 - 1).sum();
-        if self.loss {
-            let sol = paths
-                .iter()
-                .zip(agents)
-                .map(|(p, i)| path_loss(p, self.goals[i]))
-                .sum();
-            (sol, soc)
-        } else {
-            (soc, 0)
-        }
+        key_of(self.goals, self.loss, paths, agents)
     }
 
     /// Whether it lowers the sum of loss (else the sum of costs).
@@ -144,6 +155,9 @@ impl<'a> Lns<'a> {
         self.paths = paths.into_iter().map(trimmed).collect();
         for p in &self.paths {
             self.res.reserve_path(p, 0, true);
+        }
+        for r in &mut self.replicas {
+            r.clone_from(&self.res);
         }
     }
 
@@ -209,16 +223,173 @@ impl<'a> Lns<'a> {
         self.steps += 1;
         let mut group = self.neighbourhood();
         group.shuffle(&mut self.rng);
-        let old: Vec<Vec<VertexId>> = group.iter().map(|&i| self.paths[i].clone()).collect();
-        for p in &old {
-            self.res.release_path(p, 0, true);
+        let view = View {
+            graph: self.graph,
+            goals: self.goals,
+            dist: self.dist,
+            paths: &self.paths,
+            loss: self.loss,
+        };
+        let Some((new, improved)) = view.repair(&mut self.res, &group, deadline) else {
+            return false;
+        };
+        self.improved += u64::from(improved);
+        for (&i, p) in group.iter().zip(new) {
+            self.res.release_path(&self.paths[i], 0, true);
+            self.paths[i] = p;
         }
-        // The group's new paths may not cost more than its old ones, nor end more than SLACK steps
-        // after the makespan: each search is bounded by
-        // what is left of that budget after the paths already found and the distances of the
-        // agents still to go, so a hopeless search fails fast instead of exploring every
-        // (cell, time) up to a far horizon.
-        let old_key = self.key_of(&old, group.iter().copied());
+        for &i in &group {
+            self.res.reserve_path(&self.paths[i], 0, true);
+        }
+        improved
+    }
+
+    /// `rounds` rounds of steps; the number that lowered the plan's cost. With one thread
+    /// ([`Lns::with_threads`]) each round is one [`Lns::step`]. With `t` threads a round draws
+    /// `t` neighbourhoods (in order, from the one seeded generator), repairs them at once, each
+    /// against its own copy of the reservation table and the plan as it was at the round's
+    /// start, and then keeps the repairs in draw order: one whose agents another kept repair of
+    /// the round already moved is dropped, and one whose new paths now collide with those is
+    /// dropped too. So for a seed and a thread count the result depends on the rounds run, not
+    /// on how the threads are scheduled.
+    pub(crate) fn steps(&mut self, rounds: usize, deadline: Deadline) -> u64 {
+        let threads = self.replicas.len() + 1;
+        let mut lowered = 0;
+        for _ in 0..rounds {
+            if threads == 1 {
+                lowered += u64::from(self.step(deadline));
+                continue;
+            }
+            let groups: Vec<Vec<usize>> = (0..threads)
+                .map(|_| {
+                    self.steps += 1;
+                    let mut g = self.neighbourhood();
+                    g.shuffle(&mut self.rng);
+                    g
+                })
+                .collect();
+            let view = View {
+                graph: self.graph,
+                goals: self.goals,
+                dist: self.dist,
+                paths: &self.paths,
+                loss: self.loss,
+            };
+            let mut tables: Vec<&mut Reservations> = std::iter::once(&mut self.res)
+                .chain(self.replicas.iter_mut())
+                .collect();
+            let repairs: Vec<Option<(Vec<Vec<VertexId>>, bool)>> = tables
+                .par_iter_mut()
+                .zip(groups.par_iter())
+                .map(|(res, group)| view.repair(res, group, deadline))
+                .collect();
+            // Keep them in draw order.
+            let mut moved: FxHashSet<usize> = FxHashSet::default();
+            let mut kept: Vec<(usize, Vec<VertexId>, Vec<VertexId>)> = Vec::new();
+            for (group, repair) in groups.iter().zip(repairs) {
+                let Some((new, improved)) = repair else {
+                    continue;
+                };
+                if group.iter().any(|i| moved.contains(i)) {
+                    continue;
+                }
+                for &i in group {
+                    self.res.release_path(&self.paths[i], 0, true);
+                }
+                if !kept.is_empty() && !fits(&mut self.res, &new) {
+                    for &i in group {
+                        self.res.reserve_path(&self.paths[i], 0, true);
+                    }
+                    continue;
+                }
+                for (&i, p) in group.iter().zip(new) {
+                    self.res.reserve_path(&p, 0, true);
+                    let old = std::mem::replace(&mut self.paths[i], p);
+                    kept.push((i, old, self.paths[i].clone()));
+                    moved.insert(i);
+                }
+                self.improved += u64::from(improved);
+                lowered += u64::from(improved);
+            }
+            // The other tables take the same changes.
+            self.replicas.par_iter_mut().for_each(|r| {
+                for (_, old, _) in &kept {
+                    r.release_path(old, 0, true);
+                }
+                for (_, _, new) in &kept {
+                    r.reserve_path(new, 0, true);
+                }
+            });
+        }
+        lowered
+    }
+}
+
+/// Whether `paths` (each from time 0, parked at its end) obey `res` and each other, by the rules
+/// [`sipp`] plans with; reserves them when they do, leaves `res` as it was when not.
+fn fits(res: &mut Reservations, paths: &[Vec<VertexId>]) -> bool {
+    for (n, p) in paths.iter().enumerate() {
+        let ok = (1..p.len()).all(|t| res.move_free(p[t - 1], p[t], t as u32))
+            && res.free_from(p[p.len() - 1], p.len() as u32 - 1)
+            && res.vertex_free(p[p.len() - 1], p.len() as u32 - 1);
+        if !ok {
+            for q in &paths[..n] {
+                res.release_path(q, 0, true);
+            }
+            return false;
+        }
+        res.reserve_path(p, 0, true);
+    }
+    for q in paths {
+        res.release_path(q, 0, true);
+    }
+    true
+}
+
+/// The (objective, sum of costs) key of `paths`, the paths of `agents` in order ([`Lns::key`]).
+fn key_of(
+    goals: &[VertexId],
+    loss: bool,
+    paths: &[Vec<VertexId>],
+    agents: impl IntoIterator<Item = usize>,
+) -> (u64, u64) {
+    let soc: u64 = paths.iter().map(|p| p.len() as u64 - 1).sum();
+    if loss {
+        let sol = paths
+            .iter()
+            .zip(agents)
+            .map(|(p, i)| path_loss(p, goals[i]))
+            .sum();
+        (sol, soc)
+    } else {
+        (soc, 0)
+    }
+}
+
+impl View<'_> {
+    /// Re-plans the agents of `group`, in its order, against `res` without their paths: their
+    /// new paths and whether they lower the key, when they are found and do not raise it, else
+    /// `None`. `res` is left as it was.
+    fn repair(
+        &self,
+        res: &mut Reservations,
+        group: &[usize],
+        deadline: Deadline,
+    ) -> Option<(Vec<Vec<VertexId>>, bool)> {
+        let old: Vec<&Vec<VertexId>> = group.iter().map(|&i| &self.paths[i]).collect();
+        for p in &old {
+            res.release_path(p, 0, true);
+        }
+        // The group's new paths may not cost more than its old ones, nor end more than SLACK
+        // steps after the makespan: each search is bounded by what is left of that budget after
+        // the paths already found and the distances of the agents still to go, so a hopeless
+        // search fails fast instead of exploring every (cell, time) up to a far horizon.
+        let old_key = key_of(
+            self.goals,
+            self.loss,
+            &old.iter().map(|p| p.to_vec()).collect::<Vec<_>>(),
+            group.iter().copied(),
+        );
         // Each new path's loss is at most its cost, and its cost at most the group's old
         // objective value left after the others' lower bounds.
         let old_cost = old_key.0;
@@ -248,33 +419,24 @@ impl<'a> Lns<'a> {
                 window: None,
                 deadline,
             };
-            match sipp(&q, &self.res) {
+            match sipp(&q, res) {
                 Search::Found(p) => {
                     let p = trimmed(p);
                     spent += p.len() as u64 - 1;
-                    self.res.reserve_path(&p, 0, true);
+                    res.reserve_path(&p, 0, true);
                     new.push(p);
                 }
                 _ => break,
             }
         }
-        let new_key = self.key_of(&new, group.iter().copied());
-        let keep = new.len() == group.len() && new_key <= old_key;
-        let improved = keep && new_key < old_key;
-        self.improved += u64::from(improved);
-        if keep {
-            for (&i, p) in group.iter().zip(new) {
-                self.paths[i] = p;
-            }
-        } else {
-            for p in &new {
-                self.res.release_path(p, 0, true);
-            }
-            for p in &old {
-                self.res.reserve_path(p, 0, true);
-            }
+        for p in &new {
+            res.release_path(p, 0, true);
         }
-        improved
+        for p in &old {
+            res.reserve_path(p, 0, true);
+        }
+        let new_key = key_of(self.goals, self.loss, &new, group.iter().copied());
+        (new.len() == group.len() && new_key <= old_key).then_some((new, new_key < old_key))
     }
 }
 
@@ -284,8 +446,9 @@ mod tests {
     use crate::lacam::Lacam;
     use mrpp_core::{Ctx, MapfProblem, Plan, Planner, Problem, Rules};
 
-    /// On both objectives: every step leaves a valid plan whose (objective, sum of costs) key
-    /// never rises, the key is the validator's count, and 200 steps lower it.
+    /// On both objectives, with one and with several threads: every round leaves a valid plan
+    /// whose (objective, sum of costs) key never rises, the key is the validator's count, and
+    /// 200 steps lower it.
     #[test]
     fn steps_keep_the_plan_valid_and_never_raise_its_cost() {
         let map = crate::GridMap::load(std::path::Path::new(concat!(
@@ -317,8 +480,9 @@ mod tests {
                 .sum();
             (sol, soc)
         };
-        for loss in [false, true] {
-            let mut lns = Lns::new(g, &inst.goals, &dist, plan.paths.clone(), 7, loss);
+        for (loss, threads) in [(false, 1), (true, 1), (false, 3), (true, 2)] {
+            let mut lns =
+                Lns::new(g, &inst.goals, &dist, plan.paths.clone(), 7, loss).with_threads(threads);
             let key = |paths: &[Vec<VertexId>]| {
                 let (sol, soc) = counts(paths);
                 if loss { (sol, soc) } else { (soc, 0) }
@@ -326,12 +490,29 @@ mod tests {
             let before = key(&plan.paths);
             let mut last = lns.key();
             assert_eq!(last, before, "loss {loss}");
-            for _ in 0..200 {
-                lns.step(Deadline::none());
+            for _ in 0..200 / threads {
+                lns.steps(1, Deadline::none());
                 assert!(lns.key() <= last, "loss {loss}");
+                // Valid after every round (the validator judges the padded plan).
+                p.validate(&Plan::new(lns.paths().to_vec())).unwrap();
                 last = lns.key();
             }
+            // The other threads' tables are the main one's.
+            for r in &lns.replicas {
+                for v in 0..g.num_vertices() as VertexId {
+                    for t in 0..40 {
+                        assert_eq!(r.vertex_free(v, t), lns.res.vertex_free(v, t));
+                    }
+                }
+            }
             assert_eq!(key(lns.paths()), last, "loss {loss}");
+            // Rounds do not depend on how the threads were scheduled.
+            let mut again =
+                Lns::new(g, &inst.goals, &dist, plan.paths.clone(), 7, loss).with_threads(threads);
+            for _ in 0..200 / threads {
+                again.steps(1, Deadline::none());
+            }
+            assert_eq!(again.paths(), lns.paths(), "loss {loss}, {threads} threads");
             assert!(last < before, "loss {loss}: {last:?} !< {before:?}");
         }
     }
