@@ -51,6 +51,9 @@ pub(crate) struct Lns<'a> {
     /// Copies of `res` for the other workers of [`Lns::steps`] (`threads - 1` of them), kept
     /// equal to it between rounds.
     replicas: Vec<Reservations>,
+    /// The workers' own threads (with more than one), so that they run at once whatever pool
+    /// the caller runs in (`mrpp bench --jobs 1` runs every job in a pool of one thread).
+    pool: Option<rayon::ThreadPool>,
 }
 
 /// What a worker of a step needs to read: the graph, the goals and their distance tables, the
@@ -101,12 +104,23 @@ impl<'a> Lns<'a> {
             improved: 0,
             loss,
             replicas: Vec::new(),
+            pool: None,
         }
     }
 
     /// Re-plans `threads` neighbourhoods at once in [`Lns::steps`] (default 1).
     pub(crate) fn with_threads(mut self, threads: usize) -> Self {
         self.replicas = (1..threads.max(1)).map(|_| self.res.clone()).collect();
+        // Without a pool of its own (the system refused threads) the workers share the
+        // caller's: the same result, later.
+        self.pool = (threads > 1)
+            .then(|| {
+                rayon::ThreadPoolBuilder::new()
+                    .num_threads(threads)
+                    .build()
+                    .ok()
+            })
+            .flatten();
         self
     }
 
@@ -278,11 +292,17 @@ impl<'a> Lns<'a> {
             let mut tables: Vec<&mut Reservations> = std::iter::once(&mut self.res)
                 .chain(self.replicas.iter_mut())
                 .collect();
-            let repairs: Vec<Option<(Vec<Vec<VertexId>>, bool)>> = tables
-                .par_iter_mut()
-                .zip(groups.par_iter())
-                .map(|(res, group)| view.repair(res, group, deadline))
-                .collect();
+            let mut repair_all = || -> Vec<Option<(Vec<Vec<VertexId>>, bool)>> {
+                tables
+                    .par_iter_mut()
+                    .zip(groups.par_iter())
+                    .map(|(res, group)| view.repair(res, group, deadline))
+                    .collect()
+            };
+            let repairs = match &self.pool {
+                Some(pool) => pool.install(repair_all),
+                None => repair_all(),
+            };
             // Keep them in draw order.
             let mut moved: FxHashSet<usize> = FxHashSet::default();
             let mut kept: Vec<(usize, Vec<VertexId>, Vec<VertexId>)> = Vec::new();
