@@ -580,3 +580,51 @@ fn every_plan_of_a_config_passes_the_independent_checker() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// LaCAM* with `threads=2` runs its LNS workers on threads of its own: inside `mrpp bench
+/// --jobs 1` (every job on one rayon worker) a run neither starts the next job inside itself
+/// nor outlives its time limit by more than a moment. (A rayon pool of its own did both: the
+/// waiting worker ran the next job meanwhile, and a 30 s run took up to 266 s.)
+#[test]
+fn lacam_star_with_two_threads_keeps_to_its_time_limit_in_a_sweep() {
+    let dir = tmp("bench-threads");
+    let cfg = dir.join("t.toml");
+    let data = root().join("data/movingai");
+    std::fs::write(
+        &cfg,
+        format!(
+            "time_limit = 1.0\n[[planners]]\nname = \"lacam\"\nparams = {{ anytime = \"true\", threads = \"2\" }}\n[[instances]]\nmap = \"{0}/random-32-32-20.map\"\nscen = \"{0}/random-32-32-20-random-{{k}}.scen\"\nscens = \"1..=3\"\nagents = [200]\n",
+            data.display()
+        ),
+    )
+    .unwrap();
+    let out = dir.join("out");
+    mrpp_exits(
+        &[
+            "bench",
+            "run",
+            "--config",
+            s(&cfg),
+            "--jobs",
+            "1",
+            "--progress",
+            "none",
+            "--out",
+            s(&out),
+        ],
+        0,
+    );
+    let records = std::fs::read_to_string(out.join("records.csv")).unwrap();
+    let header: Vec<&str> = records.lines().next().unwrap().split(',').collect();
+    let at = header.iter().position(|h| *h == "runtime_ms").unwrap();
+    let rows: Vec<&str> = records.lines().skip(1).collect();
+    assert_eq!(rows.len(), 3, "{records}");
+    for row in rows {
+        assert!(row.contains(",solved,"), "{row}");
+        let ms: f64 = row.split(',').nth(at).unwrap().parse().unwrap();
+        // One second of search, and a generous allowance for a loaded machine; a nested run
+        // would add at least another second.
+        assert!(ms < 1_900.0, "{ms} ms: {row}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -22,7 +22,6 @@
 use rand::SeedableRng;
 use rand::seq::{IndexedRandom, SliceRandom};
 use rand_chacha::ChaCha8Rng;
-use rayon::prelude::*;
 use rustc_hash::FxHashSet;
 
 use mrpp_core::mapf::search::distance::GoalDistances;
@@ -51,9 +50,6 @@ pub(crate) struct Lns<'a> {
     /// Copies of `res` for the other workers of [`Lns::steps`] (`threads - 1` of them), kept
     /// equal to it between rounds.
     replicas: Vec<Reservations>,
-    /// The workers' own threads (with more than one), so that they run at once whatever pool
-    /// the caller runs in (`mrpp bench --jobs 1` runs every job in a pool of one thread).
-    pool: Option<rayon::ThreadPool>,
 }
 
 /// What a worker of a step needs to read: the graph, the goals and their distance tables, the
@@ -104,23 +100,12 @@ impl<'a> Lns<'a> {
             improved: 0,
             loss,
             replicas: Vec::new(),
-            pool: None,
         }
     }
 
     /// Re-plans `threads` neighbourhoods at once in [`Lns::steps`] (default 1).
     pub(crate) fn with_threads(mut self, threads: usize) -> Self {
         self.replicas = (1..threads.max(1)).map(|_| self.res.clone()).collect();
-        // Without a pool of its own (the system refused threads) the workers share the
-        // caller's: the same result, later.
-        self.pool = (threads > 1)
-            .then(|| {
-                rayon::ThreadPoolBuilder::new()
-                    .num_threads(threads)
-                    .build()
-                    .ok()
-            })
-            .flatten();
         self
     }
 
@@ -260,7 +245,8 @@ impl<'a> Lns<'a> {
 
     /// `rounds` rounds of steps; the number that lowered the plan's cost. With one thread
     /// ([`Lns::with_threads`]) each round is one [`Lns::step`]. With `t` threads a round draws
-    /// `t` neighbourhoods (in order, from the one seeded generator), repairs them at once, each
+    /// `t` neighbourhoods (in order, from the one seeded generator), repairs them at once on `t`
+    /// threads (this one and `t - 1` scoped ones), each
     /// against its own copy of the reservation table and the plan as it was at the round's
     /// start, and then keeps the repairs in draw order: one whose agents another kept repair of
     /// the round already moved is dropped, and one whose new paths now collide with those is
@@ -292,17 +278,25 @@ impl<'a> Lns<'a> {
             let mut tables: Vec<&mut Reservations> = std::iter::once(&mut self.res)
                 .chain(self.replicas.iter_mut())
                 .collect();
-            let mut repair_all = || -> Vec<Option<(Vec<Vec<VertexId>>, bool)>> {
-                tables
-                    .par_iter_mut()
-                    .zip(groups.par_iter())
-                    .map(|(res, group)| view.repair(res, group, deadline))
+            // Plain scoped threads, not a rayon pool: a rayon worker that waits for another
+            // pool runs its own pool's queued jobs meanwhile, which in `mrpp bench` are other
+            // runs, started inside this one.
+            let view = &view;
+            let repairs: Vec<Option<(Vec<Vec<VertexId>>, bool)>> = std::thread::scope(|sc| {
+                let mut work = tables.iter_mut().zip(&groups);
+                let (own_res, own_group) = work.next().expect("at least one worker");
+                let others: Vec<_> = work
+                    .map(|(res, group)| sc.spawn(move || view.repair(res, group, deadline)))
+                    .collect();
+                let own = view.repair(own_res, own_group, deadline);
+                std::iter::once(own)
+                    .chain(
+                        others
+                            .into_iter()
+                            .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e))),
+                    )
                     .collect()
-            };
-            let repairs = match &self.pool {
-                Some(pool) => pool.install(repair_all),
-                None => repair_all(),
-            };
+            });
             // Keep them in draw order.
             let mut moved: FxHashSet<usize> = FxHashSet::default();
             let mut kept: Vec<(usize, Vec<VertexId>, Vec<VertexId>)> = Vec::new();
@@ -332,14 +326,14 @@ impl<'a> Lns<'a> {
                 lowered += u64::from(improved);
             }
             // The other tables take the same changes.
-            self.replicas.par_iter_mut().for_each(|r| {
+            for r in &mut self.replicas {
                 for (_, old, _) in &kept {
                     r.release_path(old, 0, true);
                 }
                 for (_, _, new) in &kept {
                     r.reserve_path(new, 0, true);
                 }
-            });
+            }
         }
         lowered
     }
