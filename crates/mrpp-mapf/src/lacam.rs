@@ -54,6 +54,10 @@
 //! there, the bound being 167,907), so `auto` (the default) turns it on for LaCAM* and off for
 //! LaCAM, whose point is the first plan's speed. It gets at most half the time limit.
 //!
+//! Threads (`-p threads`): the search runs on one thread; with `threads = N` the LNS repairs N
+//! neighbourhoods at once on N threads and keeps them in the order drawn ([`crate::lns`]), so a
+//! run depends on the seed and N, not on the machine's cores.
+//!
 //! Where the papers are silent: priorities tie by agent id; the deadline is checked before every
 //! expansion; without a deadline an anytime search runs until it proves optimality.
 
