@@ -151,11 +151,32 @@ fn cbs_and_eecbs_match_brute_force() {
             heuristic: mrpp_grid::cbs::Heuristic::Cg,
             ..Cbs::optimal().settings
         });
+        let wdg = Cbs::new(mrpp_grid::cbs::Settings {
+            heuristic: mrpp_grid::cbs::Heuristic::Wdg,
+            ..Cbs::optimal().settings
+        });
+        let dg = Cbs::new(mrpp_grid::cbs::Settings {
+            heuristic: mrpp_grid::cbs::Heuristic::Dg,
+            ..Cbs::optimal().settings
+        });
+        let no_target = Cbs::new(mrpp_grid::cbs::Settings {
+            target: false,
+            ..Cbs::optimal().settings
+        });
+        let standard_wdg = Cbs::new(mrpp_grid::cbs::Settings {
+            disjoint: false,
+            heuristic: mrpp_grid::cbs::Heuristic::Wdg,
+            ..Cbs::optimal().settings
+        });
         for (name, planner) in [
             ("cbs", Cbs::optimal()),
             ("cbs without a heuristic", plain),
             ("cbs with the CG heuristic", cg),
+            ("cbs with the DG heuristic", dg),
+            ("cbs with the WDG heuristic", wdg),
+            ("cbs without target reasoning", no_target),
             ("cbs standard splitting", standard),
+            ("cbs standard splitting, WDG", standard_wdg),
             ("eecbs(1)", Cbs::eecbs(1.0)),
         ] {
             match solve(&planner, &problem, &ctx()) {
@@ -191,5 +212,106 @@ fn cbs_and_eecbs_match_brute_force() {
     assert!(
         e1_solved * 10 >= solvable * 9,
         "EECBS(1) solved {e1_solved} of {solvable}"
+    );
+}
+
+/// Beyond brute force's reach: on 24 seeded 7 x 7 grids with 20 % walls and 6..=14 agents, every
+/// optimal variant (heuristic none, CG, WDG; target reasoning on and off; disjoint and standard
+/// splitting; EECBS(1)) that returns within 1 s returns the same sum of costs, and the
+/// default solves at least 80 % of them.
+#[test]
+fn optimal_variants_agree_on_larger_grids() {
+    use mrpp_grid::cbs::{Heuristic, Settings};
+    let mut rng = ChaCha8Rng::seed_from_u64(20_261_205);
+    let (mut cases, mut default_solved) = (0, 0);
+    for case in 0..24 {
+        let rows: Vec<Vec<bool>> = (0..7)
+            .map(|_| (0..7).map(|_| rng.random_bool(0.8)).collect())
+            .collect();
+        let map = GridMap::from_free_rows(&rows);
+        let g = map.graph();
+        // The largest connected part, so every instance is solvable unless agents block it.
+        let cells: Vec<VertexId> = {
+            let n = g.num_vertices();
+            let mut best: Vec<VertexId> = Vec::new();
+            let mut seen = vec![false; n];
+            for s in 0..n {
+                if seen[s] {
+                    continue;
+                }
+                let mut part = vec![s as VertexId];
+                seen[s] = true;
+                let mut k = 0;
+                while k < part.len() {
+                    for &v in g.neighbors(part[k]) {
+                        if !seen[v as usize] {
+                            seen[v as usize] = true;
+                            part.push(v);
+                        }
+                    }
+                    k += 1;
+                }
+                if part.len() > best.len() {
+                    best = part;
+                }
+            }
+            best
+        };
+        let agents = rng.random_range(6..=14usize);
+        if cells.len() < agents + 4 {
+            continue;
+        }
+        let starts: Vec<VertexId> = cells.sample(&mut rng, agents).copied().collect();
+        let goals: Vec<VertexId> = cells.sample(&mut rng, agents).copied().collect();
+        let inst = Instance::new(starts, goals).unwrap();
+        let problem = MapfProblem::on(g, &inst, Rules::default());
+        cases += 1;
+        let base = Cbs::optimal().settings;
+        let mut variants: Vec<(String, Cbs)> = Vec::new();
+        for heuristic in [Heuristic::None, Heuristic::Cg, Heuristic::Wdg] {
+            for target in [true, false] {
+                for disjoint in [true, false] {
+                    let s = Settings {
+                        heuristic,
+                        target,
+                        disjoint,
+                        ..base
+                    };
+                    variants.push((format!("{s:?}"), Cbs::new(s)));
+                }
+            }
+        }
+        variants.push(("eecbs(1)".into(), Cbs::eecbs(1.0)));
+        let mut agreed: Option<(u64, String)> = None;
+        for (name, planner) in &variants {
+            let ctx = Ctx::new(0, Deadline::after(Duration::from_secs(1)));
+            match solve(planner, &problem, &ctx) {
+                Ok(s) => {
+                    let cost = s.metrics.sum_of_costs;
+                    if let Some((c, first)) = &agreed {
+                        assert_eq!(cost, *c, "case {case}: {name} against {first} on {inst:?}");
+                    } else {
+                        agreed = Some((cost, name.clone()));
+                    }
+                    if name == &format!("{base:?}") {
+                        default_solved += 1;
+                    }
+                }
+                Err(Unsolved::TimeLimit) => {}
+                Err(Unsolved::GaveUp(why)) => {
+                    assert!(
+                        agreed.is_none(),
+                        "case {case}: {name} gave up ({why}) on a solved instance"
+                    );
+                }
+                Err(e) => panic!("case {case}: {name} on {inst:?}: {e}"),
+            }
+        }
+    }
+    eprintln!("{cases} cases; the default solved {default_solved}");
+    assert!(cases >= 18, "only {cases} cases drawn");
+    assert!(
+        default_solved * 10 >= cases * 8,
+        "the default solved {default_solved} of {cases}"
     );
 }

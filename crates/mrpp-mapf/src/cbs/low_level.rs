@@ -14,7 +14,7 @@ use rustc_hash::{FxHashMap, FxHashSet};
 use mrpp_core::{Deadline, Graph, VertexId};
 
 /// A CBS constraint on one agent.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Constraint {
     /// The agent is not at `v` at time `t`.
     Vertex { v: VertexId, t: u32 },
@@ -25,6 +25,16 @@ pub enum Constraint {
     /// Disjoint splitting: the agent moves from `u` to `v` at time `t` (and no other agent is at
     /// `u` at `t - 1`, at `v` at `t`, or moves `v -> u` at `t`).
     Traverses { u: VertexId, v: VertexId, t: u32 },
+    /// Target reasoning: the agent's path ends on its goal `goal` by time `t` (its cost is at most
+    /// `t`), so from `t` on it stands there and no other agent may be at `goal` (CBSH2-RTC's
+    /// length constraint `l <= t`; Li et al., ICAPS 2020).
+    FinishBy { goal: VertexId, t: u32 },
+    /// Target reasoning: the agent's cost is more than `t` (it is not on its goal for good by
+    /// `t`; it may pass it earlier).
+    FinishAfter { t: u32 },
+    /// Implied by another agent's [`Constraint::FinishBy`]: the agent is not at `v` at any time
+    /// from `t` on.
+    VertexFrom { v: VertexId, t: u32 },
 }
 
 impl Constraint {
@@ -38,6 +48,7 @@ impl Constraint {
                 Constraint::Vertex { v, t },
                 Constraint::Edge { u: v, v: u, t },
             ],
+            Constraint::FinishBy { goal, t } => vec![Constraint::VertexFrom { v: goal, t }],
             _ => Vec::new(),
         }
     }
@@ -50,6 +61,11 @@ impl Constraint {
             Constraint::Edge { u, v, t } => t == 0 || !(at(t - 1) == u && at(t) == v),
             Constraint::AtVertex { v, t } => at(t) == v,
             Constraint::Traverses { u, v, t } => t > 0 && at(t - 1) == u && at(t) == v,
+            Constraint::FinishBy { t, .. } => path.len() - 1 <= t as usize,
+            Constraint::FinishAfter { t } => path.len() - 1 > t as usize,
+            Constraint::VertexFrom { v, t } => {
+                path.iter().skip(t as usize).all(|&x| x != v) && at(t) != v
+            }
         }
     }
 }
@@ -63,8 +79,14 @@ pub struct Constraints {
     landmarks: Vec<(u32, VertexId)>,
     /// Latest constrained time step (0 when none).
     pub last_t: u32,
-    /// Latest vertex constraint on the goal, if any.
+    /// Latest vertex constraint on the goal, if any (or `t` of a [`Constraint::FinishAfter`]).
     goal_last: Option<u32>,
+    /// The time by which the agent must be on its goal for good ([`Constraint::FinishBy`]).
+    finish_by: Option<u32>,
+    /// Vertices the agent may not be at from a time on ([`Constraint::VertexFrom`]).
+    forbidden_from: Vec<(VertexId, u32)>,
+    /// Whether a [`Constraint::VertexFrom`] is on the agent's own goal (then it never finishes).
+    goal_blocked: bool,
 }
 
 impl Constraints {
@@ -93,6 +115,19 @@ impl Constraints {
                     c.landmarks.push((t, v));
                     c.last_t = c.last_t.max(t);
                 }
+                Constraint::FinishBy { t, .. } => {
+                    c.finish_by = Some(c.finish_by.map_or(t, |f| f.min(t)));
+                    c.last_t = c.last_t.max(t);
+                }
+                Constraint::FinishAfter { t } => {
+                    c.goal_last = Some(c.goal_last.map_or(t, |g| g.max(t)));
+                    c.last_t = c.last_t.max(t);
+                }
+                Constraint::VertexFrom { v, t } => {
+                    c.forbidden_from.push((v, t));
+                    c.goal_blocked |= v == goal;
+                    c.last_t = c.last_t.max(t);
+                }
             }
         }
         c.landmarks.sort_unstable();
@@ -105,6 +140,10 @@ impl Constraints {
         !self.vertices.contains(&(v, t))
             && !self.edges.contains(&(u, v, t))
             && self.landmark_at(t).is_none_or(|l| l == v)
+            && self
+                .forbidden_from
+                .iter()
+                .all(|&(x, from)| x != v || t < from)
     }
 
     /// Where the agent must be at `t`, if a positive constraint says.
@@ -128,7 +167,9 @@ impl Constraints {
 
     /// Whether an agent standing on its goal at `t` may stay there for good.
     pub fn goal_free_from(&self, t: u32) -> bool {
-        self.goal_last.is_none_or(|g| g < t)
+        !self.goal_blocked
+            && self.goal_last.is_none_or(|g| g < t)
+            && self.finish_by.is_none_or(|f| t <= f)
     }
 }
 
@@ -214,31 +255,58 @@ struct Node {
     closed: bool,
 }
 
+/// The search's heuristic at `(v, t)`: the distance to the goal, or more when the last landmark
+/// must still be reached in time and the goal after it (`u32::MAX`: unreachable).
+fn landmark_h(q: &Query, v: VertexId, t: u32) -> u32 {
+    let mut hv = (q.h)(v);
+    // The agent cannot stay on its goal before its last constraint there is past (EECBS's
+    // holding time, Li et al. AAAI 2021's code): without this bound a goal constraint far in
+    // the future made A* expand every state whose distance-only `f` was below the arrival.
+    if let Some(g) = q.constraints.goal_last
+        && hv != u32::MAX
+        && g >= t
+    {
+        hv = hv.max(g + 1 - t);
+    }
+    // A state that cannot be on the goal by the finish time is dead (`g = t` here: every
+    // action costs 1).
+    if let Some(f) = q.constraints.finish_by
+        && hv != u32::MAX
+        && t.saturating_add(hv) > f
+    {
+        return u32::MAX;
+    }
+    match q.constraints.last_landmark() {
+        Some((tl, vl)) if tl >= t && hv != u32::MAX => {
+            let hl = (q.h)(vl);
+            if hl == u32::MAX {
+                u32::MAX
+            } else {
+                hv.max(tl - t + hl)
+            }
+        }
+        _ => hv,
+    }
+}
+
+/// Whether a state can still reach the next landmark in time (Manhattan distance: a lower bound
+/// on grids, 0 elsewhere); a state that cannot is dead.
+fn on_time(q: &Query, v: VertexId, t: u32) -> bool {
+    q.constraints
+        .next_landmark(t)
+        .is_none_or(|(tl, vl)| q.graph.manhattan(v, vl) <= tl - t)
+}
+
 /// Focal search for one agent (module doc). The returned path costs at most `w` times the
 /// returned lower bound, which is at most the agent's optimal cost under its constraints.
+/// With `w = 1` it runs [`optimal_search`], which returns the same path.
 pub fn focal_search(q: &Query) -> Result<Found, NoPath> {
+    if q.w <= 1.0 {
+        return optimal_search(q);
+    }
     let c = q.constraints;
-    // With landmarks the agent must still reach the last one in time, then the goal.
-    let h = |v: VertexId, t: u32| -> u32 {
-        let hv = (q.h)(v);
-        match c.last_landmark() {
-            Some((tl, vl)) if tl >= t && hv != u32::MAX => {
-                let hl = (q.h)(vl);
-                if hl == u32::MAX {
-                    u32::MAX
-                } else {
-                    hv.max(tl - t + hl)
-                }
-            }
-            _ => hv,
-        }
-    };
-    // A state that cannot reach the next landmark in time is dead (Manhattan distance: a lower
-    // bound on grids, 0 elsewhere).
-    let on_time = |v: VertexId, t: u32| {
-        c.next_landmark(t)
-            .is_none_or(|(tl, vl)| q.graph.manhattan(v, vl) <= tl - t)
-    };
+    let h = |v: VertexId, t: u32| landmark_h(q, v, t);
+    let on_time = |v: VertexId, t: u32| on_time(q, v, t);
     let h0 = h(q.start, 0);
     if h0 == u32::MAX || !c.allows(q.start, q.start, 0) || !on_time(q.start, 0) {
         return Err(NoPath::None);
@@ -349,6 +417,109 @@ pub fn focal_search(q: &Query) -> Result<Found, NoPath> {
                 focal.insert(focal_key(&nodes[k as usize], k));
             }
             f_min = new_min;
+        }
+    }
+    Err(NoPath::None)
+}
+
+/// [`focal_search`] with `w = 1`: A* over `(vertex, t)` whose open list is one binary heap on
+/// `(f, conflicts, higher g first, id)`, which pops the node the focal list would (at `w = 1`
+/// it holds exactly the nodes of least `f`, ordered by conflicts, then `f`, `g` and id). A node
+/// reached again more cheaply, or as cheaply with fewer conflicts, is pushed again and its older
+/// entry skipped when popped. CBS's low level, and the one its heuristics' two-agent searches
+/// call thousands of times; the two ordered sets of the focal version cost about twice the time.
+pub fn optimal_search(q: &Query) -> Result<Found, NoPath> {
+    use std::cmp::Reverse;
+    let c = q.constraints;
+    let h0 = landmark_h(q, q.start, 0);
+    if h0 == u32::MAX || !c.allows(q.start, q.start, 0) || !on_time(q, q.start, 0) {
+        return Err(NoPath::None);
+    }
+    let done_after = c.last_landmark().map_or(0, |(tl, _)| tl);
+    let max_t = c.last_t + q.graph.num_vertices() as u32 + 1;
+    let mut nodes = vec![Node {
+        v: q.start,
+        t: 0,
+        g: 0,
+        f: h0,
+        conflicts: 0,
+        parent: u32::MAX,
+        closed: false,
+    }];
+    let mut index: FxHashMap<(VertexId, u32), u32> = FxHashMap::default();
+    index.insert((q.start, 0), 0);
+    let key = |n: &Node, id: u32| Reverse((n.f, n.conflicts, u32::MAX - n.g, id));
+    let mut open = std::collections::BinaryHeap::from([key(&nodes[0], 0)]);
+    let mut expansions = 0u64;
+    while let Some(Reverse((f, conflicts, g_rev, id))) = open.pop() {
+        {
+            let n = &nodes[id as usize];
+            if n.closed || (n.f, n.conflicts, u32::MAX - n.g) != (f, conflicts, g_rev) {
+                continue;
+            }
+        }
+        expansions += 1;
+        if expansions.is_multiple_of(1024) && q.deadline.expired() {
+            return Err(NoPath::TimedOut);
+        }
+        nodes[id as usize].closed = true;
+        let (v, t, g) = {
+            let n = &nodes[id as usize];
+            (n.v, n.t, n.g)
+        };
+        if v == q.goal && c.goal_free_from(t) && t >= done_after {
+            let mut path = Vec::with_capacity(t as usize + 1);
+            let mut k = id;
+            while k != u32::MAX {
+                path.push(nodes[k as usize].v);
+                k = nodes[k as usize].parent;
+            }
+            path.reverse();
+            return Ok(Found {
+                path,
+                lower_bound: u64::from(f),
+            });
+        }
+        if t >= max_t {
+            continue;
+        }
+        let nt = t + 1;
+        for &w in std::iter::once(&v).chain(q.graph.neighbors(v)) {
+            if !c.allows(v, w, nt) || !on_time(q, w, nt) {
+                continue;
+            }
+            let hw = landmark_h(q, w, nt);
+            if hw == u32::MAX {
+                continue;
+            }
+            let (ng, nf) = (g + 1, g + 1 + hw);
+            let nc = conflicts + q.avoid.conflicts(v, w, nt);
+            let k = match index.get(&(w, nt)) {
+                Some(&k) => {
+                    let old = &nodes[k as usize];
+                    if old.closed || (ng, nc) >= (old.g, old.conflicts) {
+                        continue;
+                    }
+                    let n = &mut nodes[k as usize];
+                    (n.g, n.f, n.conflicts, n.parent) = (ng, nf, nc, id);
+                    k
+                }
+                None => {
+                    let k = nodes.len() as u32;
+                    nodes.push(Node {
+                        v: w,
+                        t: nt,
+                        g: ng,
+                        f: nf,
+                        conflicts: nc,
+                        parent: id,
+                        closed: false,
+                    });
+                    index.insert((w, nt), k);
+                    k
+                }
+            };
+            open.push(key(&nodes[k as usize], k));
         }
     }
     Err(NoPath::None)

@@ -8,7 +8,7 @@ use mrpp_core::{Graph, VertexId};
 
 use super::low_level::Constraints;
 
-/// Level `t` holds the vertices the agent may occupy at step `t` on a cost-`c` path.
+/// Level `t` holds the vertices (sorted) the agent may occupy at step `t` on a cost-`c` path.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct Mdd {
     levels: Vec<Vec<VertexId>>,
@@ -54,6 +54,7 @@ impl Mdd {
             });
         }
         for l in &mut levels {
+            l.sort_unstable();
             l.shrink_to_fit();
         }
         Mdd { levels }
@@ -73,8 +74,15 @@ impl Mdd {
         match *c {
             Constraint::Vertex { v, t } => holds(v, t),
             Constraint::Edge { u, v, t } => t > 0 && holds(u, t - 1) && holds(v, t),
-            // Positive constraints are never added to other agents.
-            Constraint::AtVertex { .. } | Constraint::Traverses { .. } => true,
+            Constraint::VertexFrom { v, t } => {
+                self.levels.iter().skip(t as usize).any(|l| l.contains(&v))
+                    || (v == goal && t as usize >= self.levels.len())
+            }
+            // Positive and length constraints are never added to other agents.
+            Constraint::AtVertex { .. }
+            | Constraint::Traverses { .. }
+            | Constraint::FinishBy { .. }
+            | Constraint::FinishAfter { .. } => true,
         }
     }
 
@@ -111,14 +119,29 @@ pub fn dependent(graph: &Graph, a: &Mdd, b: &Mdd) -> bool {
             }
         }
     }
-    let step = |u: VertexId, x: VertexId| u == x || graph.has_edge(u, x);
+    // The vertices of a level an agent at `u` can step to (or stay on), by binary search in
+    // the sorted level: at most 5 on a grid, where testing every pair of the two levels for
+    // edges made this search quadratic in the levels' sizes.
+    let steps = |u: VertexId, level: &[VertexId], out: &mut Vec<VertexId>| {
+        out.clear();
+        out.extend(
+            std::iter::once(u)
+                .chain(graph.neighbors(u).iter().copied())
+                .filter(|x| level.binary_search(x).is_ok()),
+        );
+    };
+    let mut seen: rustc_hash::FxHashSet<(VertexId, VertexId)> = Default::default();
+    let (mut xs, mut ys) = (Vec::new(), Vec::new());
     for t in 1..horizon {
         let (la, lb) = (at(a, t), at(b, t));
         let mut next: Vec<(VertexId, VertexId)> = Vec::new();
+        seen.clear();
         for &(u, v) in &pairs {
-            for &x in la.iter().filter(|&&x| step(u, x)) {
-                for &y in lb.iter().filter(|&&y| step(v, y)) {
-                    if x != y && !(x == v && y == u) && !next.contains(&(x, y)) {
+            steps(v, lb, &mut ys);
+            steps(u, la, &mut xs);
+            for &x in &xs {
+                for &y in &ys {
+                    if x != y && !(x == v && y == u) && seen.insert((x, y)) {
                         next.push((x, y));
                         if next.len() > JOINT_LEVEL_CAP {
                             return false;

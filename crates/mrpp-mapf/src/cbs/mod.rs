@@ -6,8 +6,9 @@
 //! low levels, with sum of costs at most `w` times the optimum. Baselines §7.
 //!
 //! A constraint-tree node holds one path per agent, its constraints (a chain of one constraint per
-//! node back to the root), the sum of costs and the conflicts between its paths (the first one of
-//! each conflicting pair). Expanding a node picks a conflict and makes two children, each with
+//! node back to the root), the sum of costs and the conflicts between its paths (every one of
+//! each conflicting pair, as CBSH2-RTC keeps them: keeping only each pair's first hid the target
+//! conflicts behind it). Expanding a node picks a conflict and makes two children, each with
 //! one more constraint on one of the two agents (vertex `(i, v, t)` or edge `(i, u, v, t)`), and
 //! re-plans only that agent with [`low_level::focal_search`] (space-time search under the
 //! validator's rules: stay at the goal, following allowed, no vertex or swap conflicts; ties go to
@@ -45,8 +46,25 @@
 //! pairs whose MDDs are *dependent* (no two conflict-free paths at their costs; Li, Felner,
 //! Boyarski, Koenig, IJCAI 2019): there it expanded 2,058 nodes where CG expanded 2,062, in 1.8x
 //! the time (the joint MDD searches), so CG stays the default. EECBS uses neither.
-//! Not implemented (named for users comparing with the literature): symmetry reasoning (target,
-//! corridor, rectangle) and the WDG heuristic (CBSH2-RTC, Li et al., AIJ 2021).
+//! `-p heuristic=wdg` weights each dependent pair by the extra cost a two-agent CBS under the
+//! node's constraints finds (at most [`PAIR_EXPANSIONS`] expansions, memoised by the pair and
+//! its constraints) and takes an edge-weighted minimum vertex cover ([`min_weighted_cover`]; Li
+//! et al., IJCAI 2019, the heuristic of CBSH2-RTC and of EECBS). Children's heuristics keep what
+//! the parent's proved (path-max).
+//!
+//! *Target reasoning* (Li, Gange, Harabor, Stuckey, Ma, Koenig, ICAPS 2020; `-p target=true`, the
+//! default of both): when an agent passes over another's goal after that one arrived for good,
+//! the node splits on the arrived agent's cost — at most the conflict's time `t` (no agent may
+//! be on that goal from `t` on) or more than `t` — instead of one vertex at one step, which left
+//! the passing agent's detours and the other's later arrivals to be refuted one step at a time.
+//! Among conflicts of equal cardinality a target conflict is split first, as CBSH2-RTC does.
+//!
+//! The low level with `w = 1` is plain A* on one binary heap ([`low_level::optimal_search`]) and
+//! counts the last constraint on an agent's goal in its heuristic (the agent cannot finish
+//! before it: EECBS's *holding time*); both cut CBS's time about in half on random-32-32-20.
+//!
+//! Not implemented (named for users comparing with the literature): rectangle and corridor
+//! reasoning (CBSH2-RTC, Li et al., AIJ 2021).
 //!
 //! *Unsolvable instances*: the constraint tree of an instance without a plan is infinite, and
 //! CBS grew to 4.6 GB in 60 s on two agents swapping the ends of a 10-cell corridor. After 256
@@ -95,7 +113,7 @@ pub const CBS_ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
         Param {
             name: "heuristic",
             default: "cg",
-            doc: "order the constraint tree by sum of costs + a minimum vertex cover of: dg = the pairs of dependent agents (their MDDs hold no pair of conflict-free paths; Li et al., IJCAI 2019), cg = the pairs with a cardinal conflict (Felner et al., ICAPS 2018); none = by sum of costs alone",
+            doc: "order the constraint tree by sum of costs + a minimum vertex cover of: wdg = the dependent pairs weighted by their extra cost (a two-agent CBS; Li et al., IJCAI 2019, as in CBSH2-RTC), dg = the pairs of dependent agents (their MDDs hold no pair of conflict-free paths; Li et al., IJCAI 2019), cg = the pairs with a cardinal conflict (Felner et al., ICAPS 2018); none = by sum of costs alone",
         },
         Param {
             name: "bypass",
@@ -107,6 +125,11 @@ pub const CBS_ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             default: "disjoint",
             doc: "disjoint = a negative and a positive constraint on one agent (Li et al., ICAPS 2019); standard = one negative constraint on each agent",
         },
+        Param {
+            name: "target",
+            default: "true",
+            doc: "target reasoning: split a conflict on an agent's goal after it arrived by that agent's cost, at most or more than the conflict's time (Li et al., ICAPS 2020)",
+        },
     ],
     build: |p| {
         Ok(Box::new(Cbs::new(Settings {
@@ -115,8 +138,13 @@ pub const CBS_ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             prioritize: p.choice("prioritize", &["false", "true"])? == 1,
             bypass: p.choice("bypass", &["false", "true"])? == 1,
             disjoint: p.choice("splitting", &["standard", "disjoint"])? == 1,
-            heuristic: [Heuristic::None, Heuristic::Cg, Heuristic::Dg]
-                [p.choice("heuristic", &["none", "cg", "dg"])?],
+            target: p.choice("target", &["false", "true"])? == 1,
+            heuristic: [
+                Heuristic::None,
+                Heuristic::Cg,
+                Heuristic::Dg,
+                Heuristic::Wdg,
+            ][p.choice("heuristic", &["none", "cg", "dg", "wdg"])?],
         })))
     },
 };
@@ -141,6 +169,11 @@ pub const EECBS_ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             default: "disjoint",
             doc: "disjoint = a negative and a positive constraint on one agent (Li et al., ICAPS 2019); standard = one negative constraint on each agent",
         },
+        Param {
+            name: "target",
+            default: "true",
+            doc: "target reasoning: split a conflict on an agent's goal after it arrived by that agent's cost, at most or more than the conflict's time (Li et al., ICAPS 2020)",
+        },
     ],
     build: |p| {
         let w: f64 = p.get_in("w", 1.0..=1000.0)?;
@@ -150,6 +183,7 @@ pub const EECBS_ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             prioritize: w == 1.0,
             bypass: p.choice("bypass", &["false", "true"])? == 1,
             disjoint: p.choice("splitting", &["standard", "disjoint"])? == 1,
+            target: p.choice("target", &["false", "true"])? == 1,
             heuristic: Heuristic::None,
         })))
     },
@@ -167,6 +201,8 @@ pub struct Settings {
     pub bypass: bool,
     /// Disjoint splitting (Li et al., ICAPS 2019); false: standard splitting.
     pub disjoint: bool,
+    /// Target reasoning (Li et al., ICAPS 2020; [`Search::split`]).
+    pub target: bool,
     /// CBS: the heuristic added to each node's sum of costs in the best-first order (ignored
     /// by EECBS).
     pub heuristic: Heuristic,
@@ -183,6 +219,11 @@ pub enum Heuristic {
     /// DG: those and the pairs whose MDDs are dependent ([`mdd::dependent`]; Li, Felner,
     /// Boyarski, Koenig, IJCAI 2019).
     Dg,
+    /// WDG: the DG's pairs, each weighted by how much the two agents' sum of costs must rise for
+    /// them to stop conflicting (a two-agent CBS under the node's constraints, at most
+    /// [`PAIR_EXPANSIONS`] expansions), and an edge-weighted minimum vertex cover of them (Li,
+    /// Felner, Boyarski, Koenig, IJCAI 2019, §4; the heuristic of CBSH2-RTC, Li et al., AIJ 2021).
+    Wdg,
 }
 
 /// CBS or EECBS, by [`Settings`].
@@ -199,6 +240,8 @@ pub struct Report {
     pub generated: u64,
     /// Proven lower bound on the optimal sum of costs when the plan was found.
     pub lower_bound: u64,
+    /// WDG: two-agent searches run (not answered by the memo).
+    pub pair_searches: u64,
 }
 
 impl Cbs {
@@ -217,6 +260,7 @@ impl Cbs {
             prioritize: true,
             bypass: true,
             disjoint: true,
+            target: true,
             heuristic: Heuristic::Cg,
         })
     }
@@ -229,6 +273,7 @@ impl Cbs {
             prioritize: w == 1.0,
             bypass: true,
             disjoint: true,
+            target: true,
             heuristic: Heuristic::None,
         })
     }
@@ -269,6 +314,9 @@ impl Planner<MapfProblem> for Cbs {
             m.insert("expanded".into(), r.expanded.into());
             m.insert("generated".into(), r.generated.into());
             m.insert("lower_bound".into(), r.lower_bound.into());
+            if self.settings.heuristic == Heuristic::Wdg {
+                m.insert("pair_searches".into(), r.pair_searches.into());
+            }
         }
         m
     }
@@ -297,29 +345,33 @@ fn at(path: &[VertexId], t: usize) -> VertexId {
     path[t.min(path.len() - 1)]
 }
 
-/// The earliest conflict between the paths of `a < b`.
-fn first_conflict(a: usize, pa: &[VertexId], b: usize, pb: &[VertexId]) -> Option<Conflict> {
+/// The conflicts between the paths of `a < b`, earliest first: at every step where they meet
+/// (including an agent passing over the other's goal after it arrived) or swap.
+fn conflicts_between(a: usize, pa: &[VertexId], b: usize, pb: &[VertexId]) -> Vec<Conflict> {
     let horizon = pa.len().max(pb.len());
+    let mut out = Vec::new();
     for t in 0..horizon {
         let (va, vb) = (at(pa, t), at(pb, t));
-        if va == vb {
-            return Some(Conflict {
-                a,
-                b,
-                t: t as u32,
-                kind: Kind::Vertex(va),
-            });
-        }
-        if t > 0 && va == at(pb, t - 1) && vb == at(pa, t - 1) {
-            return Some(Conflict {
-                a,
-                b,
-                t: t as u32,
-                kind: Kind::Edge(vb, va),
-            });
-        }
+        let kind = if va == vb {
+            Kind::Vertex(va)
+        } else if t > 0 && va == at(pb, t - 1) && vb == at(pa, t - 1) {
+            Kind::Edge(vb, va)
+        } else {
+            continue;
+        };
+        out.push(Conflict {
+            a,
+            b,
+            t: t as u32,
+            kind,
+        });
     }
-    None
+    out
+}
+
+/// The earliest conflict between the paths of `a < b`.
+fn first_conflict(a: usize, pa: &[VertexId], b: usize, pb: &[VertexId]) -> Option<Conflict> {
+    conflicts_between(a, pa, b, pb).into_iter().next()
 }
 
 /// A constraint-tree node.
@@ -331,6 +383,8 @@ struct Node {
     lbs: Vec<u64>,
     cost: u64,
     lb: u64,
+    /// Every conflict between its paths, pair by pair, each pair's earliest first (the choice
+    /// of conflict and the heuristics' pairs; CBSH2-RTC keeps all of them too).
     conflicts: Vec<Conflict>,
     h_hat: f64,
     /// CBS's admissible heuristic (the CG heuristic; 0 without it).
@@ -360,7 +414,24 @@ struct Search<'a> {
     /// Expansions at which the search next asks LaCAM for a proof that no plan exists.
     next_check: u64,
     began: Instant,
+    /// WDG: the extra cost of a pair of agents under their constraints ([`Search::pair_delta`];
+    /// `None`: no pair of conflict-free paths), by the pair and their sorted constraint lists.
+    pair_memo: FxHashMap<PairKey, Option<u64>>,
+    /// WDG: two-agent searches run (memo misses).
+    pair_searches: u64,
 }
+
+/// Agents `a < b` and their sorted constraint lists.
+type PairKey = (usize, usize, Vec<Constraint>, Vec<Constraint>);
+
+/// Expansions a WDG pair's two-agent CBS may make; past them its least open sum of costs stands
+/// for the pair's (a lower bound, so the heuristic stays admissible). CBSH2-RTC's sub-solver
+/// stops at 4 (`CBSHeuristic::node_limit` in Jiaoyang-Li/CBSH2-RTC); 16 here, its low level
+/// being mrpp's plain A*.
+pub const PAIR_EXPANSIONS: u64 = 4;
+
+/// Most entries of the WDG memo before it is emptied (about 100 bytes each plus the lists).
+const PAIR_MEMO_CAP: usize = 1 << 20;
 
 /// Expansions before the first proof that no plan exists is attempted (a few milliseconds of
 /// search on small instances; instances solved sooner never attempt one).
@@ -407,6 +478,8 @@ impl<'a> Search<'a> {
             err_n: 0.0,
             next_check: FIRST_CHECK,
             began: Instant::now(),
+            pair_memo: FxHashMap::default(),
+            pair_searches: 0,
         })
     }
 
@@ -437,9 +510,18 @@ impl<'a> Search<'a> {
         list: &[Constraint],
         paths: &[Rc<Vec<VertexId>>],
     ) -> Result<Option<Found>, Unsolved> {
+        self.plan_agent_avoiding(i, list, &AvoidanceTable::new(paths, i))
+    }
+
+    /// Plans agent `i` under `list`, ties going to fewer conflicts with `avoid`.
+    fn plan_agent_avoiding(
+        &self,
+        i: usize,
+        list: &[Constraint],
+        avoid: &AvoidanceTable,
+    ) -> Result<Option<Found>, Unsolved> {
         let inst = self.problem.instance();
         let constraints = Constraints::new(inst.goals[i], list);
-        let avoid = AvoidanceTable::new(paths, i);
         let d = &self.dist;
         let h = |v: VertexId| d.get(i, v);
         match focal_search(&Query {
@@ -448,7 +530,7 @@ impl<'a> Search<'a> {
             goal: inst.goals[i],
             h: &h,
             constraints: &constraints,
-            avoid: &avoid,
+            avoid,
             w: self.settings.w,
             deadline: self.ctx.deadline,
         }) {
@@ -480,7 +562,7 @@ impl<'a> Search<'a> {
                 return Err(Unsolved::TimeLimit);
             }
             for b in a + 1..n {
-                conflicts.extend(first_conflict(a, &paths[a], b, &paths[b]));
+                conflicts.extend(conflicts_between(a, &paths[a], b, &paths[b]));
             }
         }
         let cost = paths.iter().map(|p| p.len() as u64 - 1).sum();
@@ -540,7 +622,7 @@ impl<'a> Search<'a> {
         for &i in &changed {
             for j in (0..paths.len()).filter(|j| *j != i && !(changed.contains(j) && *j < i)) {
                 let (a, b) = (i.min(j), i.max(j));
-                conflicts.extend(first_conflict(a, &paths[a], b, &paths[b]));
+                conflicts.extend(conflicts_between(a, &paths[a], b, &paths[b]));
             }
         }
         let cost = paths.iter().map(|p| p.len() as u64 - 1).sum();
@@ -609,46 +691,207 @@ impl<'a> Search<'a> {
         }
     }
 
-    /// The CG (or DG) heuristic of node `k` (Felner, Li, Boyarski, Ma, Cohen, Kumar, Koenig, "Adding
-    /// heuristics to conflict-based search for multi-agent path finding", ICAPS 2018): every
-    /// pair of agents whose (first) conflict is cardinal for both must raise the sum of costs by
-    /// at least one between them, so a minimum vertex cover of the graph of those pairs is a lower
-    /// bound on what resolving the node's conflicts adds ([`min_vertex_cover`]).
+    /// The CG, DG or WDG heuristic of node `k` (Felner, Li, Boyarski, Ma, Cohen, Kumar, Koenig,
+    /// "Adding heuristics to conflict-based search for multi-agent path finding", ICAPS 2018):
+    /// every pair of agents whose (first) conflict is cardinal for both must raise the sum of
+    /// costs by at least one between them, so a minimum vertex cover of the graph of those pairs
+    /// is a lower bound on what resolving the node's conflicts adds ([`min_vertex_cover`]).
     ///
     /// With [`Heuristic::Dg`] a pair also counts when its agents' MDDs are dependent
-    /// ([`mdd::dependent`]): no two conflict-free paths at their current costs.
-    fn cover_heuristic(&mut self, k: u32) -> u64 {
+    /// ([`mdd::dependent`]): no two conflict-free paths at their current costs. With
+    /// [`Heuristic::Wdg`] each such pair is weighted by its extra cost ([`Search::pair_delta`])
+    /// and the cover is an edge-weighted one ([`min_weighted_cover`]). `Ok(None)`: some pair has
+    /// no conflict-free paths under the node's constraints, so no plan lies below the node.
+    fn cover_heuristic(&mut self, k: u32) -> Result<Option<u64>, Unsolved> {
         let conflicts = self.nodes[k as usize].conflicts.clone();
         let mut edges = Vec::new();
-        for c in &conflicts {
-            let counts = (self.cardinal_for(k, c, c.a) && self.cardinal_for(k, c, c.b))
-                || (self.settings.heuristic == Heuristic::Dg && {
-                    let (ma, mb) = (self.mdd(k, c.a), self.mdd(k, c.b));
-                    mdd::dependent(self.problem.graph(), &ma, &mb)
-                });
-            if counts {
-                edges.push((c.a, c.b));
+        // One edge per pair: the pair's conflicts are consecutive in the list.
+        for pair in conflicts.chunk_by(|x, y| (x.a, x.b) == (y.a, y.b)) {
+            let mut cardinal = None;
+            for c in pair {
+                if self.cardinal_for(k, c, c.a) && self.cardinal_for(k, c, c.b) {
+                    cardinal = Some(*c);
+                    break;
+                }
+            }
+            let weight = if self.settings.heuristic == Heuristic::Wdg {
+                match self.pair_delta(k, &pair[0], cardinal.is_some())? {
+                    Some(d) => d,
+                    None => return Ok(None),
+                }
+            } else {
+                u64::from(
+                    cardinal.is_some()
+                        || (self.settings.heuristic == Heuristic::Dg
+                            && self.dependent(k, &pair[0])),
+                )
+            };
+            if weight > 0 {
+                edges.push((pair[0].a, pair[0].b, weight));
             }
         }
-        min_vertex_cover(&edges)
+        Ok(Some(min_weighted_cover(&edges)))
     }
 
-    /// The conflict to split at node `k`: cardinal, then semi-cardinal, then any (earliest
-    /// first), or simply the earliest without prioritisation.
+    /// Whether the MDDs of conflict `c`'s agents at node `k` are dependent ([`mdd::dependent`]).
+    fn dependent(&mut self, k: u32, c: &Conflict) -> bool {
+        let (ma, mb) = (self.mdd(k, c.a), self.mdd(k, c.b));
+        mdd::dependent(self.problem.graph(), &ma, &mb)
+    }
+
+    /// How much the agents `a < b` of conflict `c` at node `k` must raise their sum of costs
+    /// between them to have paths free of conflicts with each other under their constraints at
+    /// `k`. 0 when no conflict of theirs is `cardinal` and their MDDs are not dependent; else a
+    /// CBS over the two (standard splitting, target reasoning when the search has it, optimal
+    /// low levels, best-first by sum of costs), stopped after [`PAIR_EXPANSIONS`] expansions with
+    /// its least open sum of costs, which bounds the pair's from below; at least 1 for a
+    /// dependent pair. `None` when every branch runs out of paths (no pair of paths
+    /// exists). Memoised by the pair and its constraint lists, which siblings and cousins share
+    /// (WDG, Li et al., IJCAI 2019, §4.2).
+    fn pair_delta(
+        &mut self,
+        k: u32,
+        c: &Conflict,
+        cardinal: bool,
+    ) -> Result<Option<u64>, Unsolved> {
+        let (a, b) = (c.a, c.b);
+        let sorted = |mut l: Vec<Constraint>| {
+            l.sort_unstable();
+            l.dedup();
+            l
+        };
+        let key: PairKey = (
+            a,
+            b,
+            sorted(self.constraints_of(k, a)),
+            sorted(self.constraints_of(k, b)),
+        );
+        if let Some(&d) = self.pair_memo.get(&key) {
+            return Ok(d);
+        }
+        if !cardinal && !self.dependent(k, c) {
+            self.remember(key, Some(0));
+            return Ok(Some(0));
+        }
+        self.pair_searches += 1;
+        let node = &self.nodes[k as usize];
+        let base_paths = [node.paths[a].clone(), node.paths[b].clone()];
+        let base = base_paths.iter().map(|p| p.len() as u64 - 1).sum::<u64>();
+        let agents = [a, b];
+        // A sub-node: the constraints it added to each agent, their paths and sum of costs.
+        struct Sub {
+            added: [Vec<Constraint>; 2],
+            paths: [Path; 2],
+        }
+        let count_conflicts = |p: &[Path; 2]| conflicts_between(0, &p[0], 1, &p[1]).len();
+        let mut subs = vec![Sub {
+            added: [Vec::new(), Vec::new()],
+            paths: base_paths,
+        }];
+        let mut open = BinaryHeap::from([std::cmp::Reverse((
+            base,
+            count_conflicts(&subs[0].paths),
+            0usize,
+        ))]);
+        let mut expansions = 0;
+        let delta = loop {
+            let Some(std::cmp::Reverse((cost, _, id))) = open.pop() else {
+                break None;
+            };
+            let Some(c) = first_conflict(0, &subs[id].paths[0], 1, &subs[id].paths[1]) else {
+                break Some(cost - base);
+            };
+            if expansions >= PAIR_EXPANSIONS {
+                break Some(cost - base);
+            }
+            expansions += 1;
+            // Each child's new constraint on each side: one agent's vertex or edge, or with
+            // target reasoning the arrived agent's cost (at most t, the other kept off its goal
+            // from t on; or more than t).
+            let t = c.t;
+            let goals = &self.problem.instance().goals;
+            let holder = match c.kind {
+                Kind::Vertex(v) if self.settings.target => (0..2)
+                    .find(|&x| goals[agents[x]] == v && t as usize >= subs[id].paths[x].len() - 1),
+                _ => None,
+            };
+            let children: [[Option<Constraint>; 2]; 2] = match (c.kind, holder) {
+                (Kind::Vertex(v), Some(x)) => {
+                    let (mut by, mut after) = ([None; 2], [None; 2]);
+                    by[x] = Some(Constraint::FinishBy { goal: v, t });
+                    by[1 - x] = Some(Constraint::VertexFrom { v, t });
+                    after[x] = Some(Constraint::FinishAfter { t });
+                    [by, after]
+                }
+                (Kind::Vertex(v), None) => [
+                    [Some(Constraint::Vertex { v, t }), None],
+                    [None, Some(Constraint::Vertex { v, t })],
+                ],
+                (Kind::Edge(u, v), _) => [
+                    [Some(Constraint::Edge { u, v, t }), None],
+                    [None, Some(Constraint::Edge { u: v, v: u, t })],
+                ],
+            };
+            'child: for child in children {
+                let mut added = subs[id].added.clone();
+                let mut paths = subs[id].paths.clone();
+                for side in 0..2 {
+                    let Some(x) = child[side] else {
+                        continue;
+                    };
+                    added[side].push(x);
+                    if x.holds_on(&paths[side]) {
+                        continue;
+                    }
+                    let list: Vec<Constraint> = key_list(&key, side)
+                        .iter()
+                        .chain(&added[side])
+                        .copied()
+                        .collect();
+                    let other = paths[1 - side].clone();
+                    let avoid = AvoidanceTable::new(std::slice::from_ref(&other), usize::MAX);
+                    let Some(found) = self.plan_agent_avoiding(agents[side], &list, &avoid)? else {
+                        continue 'child;
+                    };
+                    paths[side] = Rc::new(found.path);
+                }
+                let cost = paths.iter().map(|p| p.len() as u64 - 1).sum::<u64>();
+                let key = (cost, count_conflicts(&paths), subs.len());
+                subs.push(Sub { added, paths });
+                open.push(std::cmp::Reverse(key));
+            }
+        };
+        let delta = delta.map(|d| d.max(1));
+        self.remember(key, delta);
+        Ok(delta)
+    }
+
+    /// Stores a pair's extra cost in the WDG memo, emptying it first when full.
+    fn remember(&mut self, key: PairKey, delta: Option<u64>) {
+        if self.pair_memo.len() >= PAIR_MEMO_CAP {
+            self.pair_memo.clear();
+        }
+        self.pair_memo.insert(key, delta);
+    }
+
+    /// The conflict to split at node `k`: cardinal, then semi-cardinal, then any; among equals a
+    /// target conflict ([`Search::split`]) first, as CBSH2-RTC does, then the earliest. Without
+    /// prioritisation simply the earliest.
     fn choose(&mut self, k: u32) -> Conflict {
         let mut conflicts = self.nodes[k as usize].conflicts.clone();
         conflicts.sort_by_key(|c| (c.t, c.a, c.b));
         if !self.settings.prioritize {
             return conflicts[0];
         }
-        let mut best: Option<(u8, Conflict)> = None;
+        let mut best: Option<((u8, bool), Conflict)> = None;
         for c in conflicts {
-            let rank = 2
+            let cardinality = 2
                 - u8::from(self.cardinal_for(k, &c, c.a))
                 - u8::from(self.cardinal_for(k, &c, c.b));
+            let rank = (cardinality, self.target_holder(k, &c).is_none());
             if best.is_none_or(|(r, _)| rank < r) {
                 best = Some((rank, c));
-                if rank == 0 {
+                if rank == (0, false) || (rank.0 == 0 && !self.settings.target) {
                     break;
                 }
             }
@@ -656,11 +899,40 @@ impl<'a> Search<'a> {
         best.expect("a node with conflicts").1
     }
 
-    /// The two constraints that split conflict `c`: one on each agent, or with disjoint
-    /// splitting (Li et al., ICAPS 2019) a negative and a positive one on agent `a`, whose
-    /// children share no solution.
-    fn split(&self, c: &Conflict) -> [(usize, Constraint); 2] {
+    /// The agent of a *target conflict* `c` at node `k`: the one already on its goal for good
+    /// where the other passes at `c.t` (`None` for other conflicts, or without target
+    /// reasoning).
+    fn target_holder(&self, k: u32, c: &Conflict) -> Option<usize> {
+        let Kind::Vertex(v) = c.kind else {
+            return None;
+        };
+        if !self.settings.target {
+            return None;
+        }
+        let goals = &self.problem.instance().goals;
+        let paths = &self.nodes[k as usize].paths;
+        [c.a, c.b]
+            .into_iter()
+            .find(|&x| goals[x] == v && c.t as usize >= paths[x].len() - 1)
+    }
+
+    /// The two constraints that split conflict `c` of node `k`: one on each agent, or with
+    /// disjoint splitting (Li et al., ICAPS 2019) a negative and a positive one on agent `a`,
+    /// whose children share no solution. With target reasoning a *target conflict* (one agent
+    /// `x` already on its goal for good, the other passing over it at `t`) splits on `x`'s cost:
+    /// at most `t` (then no agent may be on that goal from `t` on) or more than `t` (Li, Gange,
+    /// Harabor, Stuckey, Ma, Koenig, "New techniques for pairwise symmetry breaking in
+    /// multi-agent path finding", ICAPS 2020, §5), so the other agent's detours and `x`'s later
+    /// arrivals are not searched one time step at a time.
+    fn split(&self, k: u32, c: &Conflict) -> [(usize, Constraint); 2] {
         let t = c.t;
+        if let Some(x) = self.target_holder(k, c) {
+            let goal = self.problem.instance().goals[x];
+            return [
+                (x, Constraint::FinishBy { goal, t }),
+                (x, Constraint::FinishAfter { t }),
+            ];
+        }
         match (c.kind, self.settings.disjoint) {
             (Kind::Vertex(v), false) => [
                 (c.a, Constraint::Vertex { v, t }),
@@ -691,7 +963,7 @@ impl<'a> Search<'a> {
             self.expanded += 1;
             let c = self.choose(k);
             let mut children = Vec::new();
-            for (i, constraint) in self.split(&c) {
+            for (i, constraint) in self.split(k, &c) {
                 let Child::Made(child) = self.child(k, i, constraint)? else {
                     continue;
                 };
@@ -802,6 +1074,7 @@ impl<'a> Search<'a> {
                     expanded: self.expanded,
                     generated: self.nodes.len() as u64,
                     lower_bound,
+                    pair_searches: self.pair_searches,
                 };
                 let node = &self.nodes[k as usize];
                 return Ok((node.paths.clone(), report));
@@ -814,14 +1087,25 @@ impl<'a> Search<'a> {
                 self.err_d += best.conflicts.len() as f64 - (parent.conflicts.len() as f64 - 1.0);
                 self.err_n += 1.0;
             }
+            let (parent_cost, parent_h) = {
+                let p = &self.nodes[k as usize];
+                (p.cost, p.h)
+            };
             for mut child in children {
                 child.h_hat = self.h_hat(child.conflicts.len());
                 let id = self.nodes.len() as u32;
                 self.nodes.push(child);
                 if self.settings.heuristic != Heuristic::None && !self.settings.explicit_estimation
                 {
-                    let h = self.cover_heuristic(id);
-                    self.nodes[id as usize].h = h;
+                    let Some(h) = self.cover_heuristic(id)? else {
+                        // No plan below this node: it is never opened.
+                        continue;
+                    };
+                    // Path-max: what the parent's heuristic proved still holds below it, less
+                    // what the child's cost has already paid of it.
+                    let child = &mut self.nodes[id as usize];
+                    let paid = child.cost.saturating_sub(parent_cost);
+                    child.h = h.max(parent_h.saturating_sub(paid));
                 }
                 push(&self, id, &mut heap, &mut lists);
             }
@@ -839,6 +1123,112 @@ impl<'a> Search<'a> {
             "every constraint set was refuted: the instance has no solution".into(),
         ))
     }
+}
+
+/// The constraint list of side `0` (agent `a`) or `1` (agent `b`) of a pair's memo key.
+fn key_list(key: &PairKey, side: usize) -> &[Constraint] {
+    if side == 0 { &key.2 } else { &key.3 }
+}
+
+/// Most agents of one connected component [`min_weighted_cover`] covers exactly.
+const EXACT_WEIGHTED_AGENTS: usize = 8;
+
+/// The least `Σ x_i` over whole numbers `x_i >= 0`, one per agent, with `x_a + x_b >= w` for
+/// every edge `(a, b, w)`: the edge-weighted minimum vertex cover of the WDG heuristic (Li et
+/// al., IJCAI 2019, §4.3). Each connected component is solved on its own: exactly by branch
+/// and bound up to [`EXACT_WEIGHTED_AGENTS`] agents (each agent's value from what its earlier
+/// neighbours leave uncovered up to its heaviest edge), above that by the larger of two lower
+/// bounds, a greedy matching's weight and the unweighted minimum cover ([`min_vertex_cover`];
+/// every edge weighs at least 1), so the heuristic stays admissible. With every weight 1 it is
+/// [`min_vertex_cover`].
+fn min_weighted_cover(edges: &[(usize, usize, u64)]) -> u64 {
+    // Components by union-find over the agents that appear.
+    let mut agents: Vec<usize> = edges.iter().flat_map(|&(a, b, _)| [a, b]).collect();
+    agents.sort_unstable();
+    agents.dedup();
+    let index = |x: usize| agents.binary_search(&x).expect("an agent of an edge");
+    let mut parent: Vec<usize> = (0..agents.len()).collect();
+    fn find(parent: &mut [usize], mut x: usize) -> usize {
+        while parent[x] != x {
+            parent[x] = parent[parent[x]];
+            x = parent[x];
+        }
+        x
+    }
+    for &(a, b, _) in edges {
+        let (ra, rb) = (find(&mut parent, index(a)), find(&mut parent, index(b)));
+        parent[ra] = rb;
+    }
+    let mut components: FxHashMap<usize, Vec<(usize, usize, u64)>> = FxHashMap::default();
+    for &(a, b, w) in edges {
+        let r = find(&mut parent, index(a));
+        components
+            .entry(r)
+            .or_default()
+            .push((index(a), index(b), w));
+    }
+    let mut total = 0;
+    let mut roots: Vec<usize> = components.keys().copied().collect();
+    roots.sort_unstable();
+    for r in roots {
+        let comp = &components[&r];
+        let mut members: Vec<usize> = comp.iter().flat_map(|&(a, b, _)| [a, b]).collect();
+        members.sort_unstable();
+        members.dedup();
+        total += if members.len() <= EXACT_WEIGHTED_AGENTS {
+            exact_weighted_cover(&members, comp)
+        } else {
+            let unit: Vec<(usize, usize)> = comp.iter().map(|&(a, b, _)| (a, b)).collect();
+            let mut by_weight = comp.clone();
+            by_weight.sort_by_key(|&(a, b, w)| (std::cmp::Reverse(w), a, b));
+            let mut used = BTreeSet::new();
+            let mut matched = 0;
+            for (a, b, w) in by_weight {
+                if !used.contains(&a) && !used.contains(&b) {
+                    used.insert(a);
+                    used.insert(b);
+                    matched += w;
+                }
+            }
+            matched.max(min_vertex_cover(&unit))
+        };
+    }
+    total
+}
+
+/// [`min_weighted_cover`] of one small component, exactly: `members` its agents, `edges` its
+/// edges.
+fn exact_weighted_cover(members: &[usize], edges: &[(usize, usize, u64)]) -> u64 {
+    let n = members.len();
+    let at = |x: usize| members.binary_search(&x).expect("a member");
+    let mut w = vec![vec![0u64; n]; n];
+    for &(a, b, wt) in edges {
+        let (i, j) = (at(a), at(b));
+        w[i][j] = w[i][j].max(wt);
+        w[j][i] = w[i][j];
+    }
+    let heaviest: Vec<u64> = w.iter().map(|r| *r.iter().max().expect("n > 0")).collect();
+    fn search(i: usize, sum: u64, x: &mut Vec<u64>, w: &[Vec<u64>], top: &[u64], best: &mut u64) {
+        if sum >= *best {
+            return;
+        }
+        if i == w.len() {
+            *best = sum;
+            return;
+        }
+        let need = (0..i)
+            .map(|j| w[i][j].saturating_sub(x[j]))
+            .max()
+            .unwrap_or(0);
+        for value in need..=top[i].max(need) {
+            x[i] = value;
+            search(i + 1, sum + value, x, w, top, best);
+        }
+    }
+    // Giving every agent its heaviest edge covers everything.
+    let mut best = heaviest.iter().sum();
+    search(0, 0, &mut vec![0; n], &w, &heaviest, &mut best);
+    best
 }
 
 /// Largest number of edges [`min_vertex_cover`] covers exactly; above it, a maximal matching's
@@ -1043,7 +1433,7 @@ mod tests {
 
 #[cfg(test)]
 mod cover_tests {
-    use super::min_vertex_cover;
+    use super::{min_vertex_cover, min_weighted_cover};
 
     #[test]
     fn minimum_vertex_covers_of_small_graphs() {
@@ -1065,5 +1455,63 @@ mod cover_tests {
         // Above the exact size, a maximal matching: never more than the cover.
         let many: Vec<(usize, usize)> = (0..50).map(|i| (i, i + 100)).collect();
         assert_eq!(min_vertex_cover(&many), 50);
+    }
+
+    #[test]
+    fn weighted_covers_of_small_graphs() {
+        assert_eq!(min_weighted_cover(&[]), 0);
+        assert_eq!(min_weighted_cover(&[(3, 7, 2)]), 2);
+        // A path a-b-c weighted 2 and 3: b takes 3 (2 + 1 would leave c's edge short).
+        assert_eq!(min_weighted_cover(&[(0, 1, 2), (1, 2, 3)]), 3);
+        // A triangle of 2s: 1 each.
+        assert_eq!(min_weighted_cover(&[(0, 1, 2), (1, 2, 2), (0, 2, 2)]), 3);
+        // A star of 1s with one heavy spoke: the centre takes 1, the heavy leaf 4.
+        assert_eq!(
+            min_weighted_cover(&[(0, 1, 1), (0, 2, 1), (0, 3, 5), (0, 4, 1)]),
+            5
+        );
+        // Two components add up.
+        assert_eq!(min_weighted_cover(&[(0, 1, 2), (5, 6, 3)]), 5);
+        // Unit weights: the unweighted cover, exact or not.
+        let cycle = [(0, 1, 1), (1, 2, 1), (2, 3, 1), (3, 4, 1), (4, 0, 1)];
+        assert_eq!(min_weighted_cover(&cycle), 3);
+        let path: Vec<(usize, usize, u64)> = (0..12).map(|i| (i, i + 1, 1)).collect();
+        assert_eq!(min_weighted_cover(&path), 6);
+        // Above the exact size the bound never exceeds the optimum: a 12-agent path of 2s
+        // needs 12 (x = 2 on every other agent); the matching of 6 edges gives 12.
+        let heavy: Vec<(usize, usize, u64)> = (0..11).map(|i| (i, i + 1, 2)).collect();
+        assert!(min_weighted_cover(&heavy) <= 12);
+        assert!(min_weighted_cover(&heavy) >= 10);
+    }
+
+    /// The exact cover is the least sum over every assignment of 0..=3 to 5 agents, on random
+    /// weighted graphs.
+    #[test]
+    fn the_exact_weighted_cover_is_the_brute_force_one() {
+        let mut seed = 12345u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            seed >> 33
+        };
+        for _ in 0..200 {
+            let mut edges = Vec::new();
+            for a in 0..5 {
+                for b in a + 1..5 {
+                    if next() % 2 == 0 {
+                        edges.push((a, b, 1 + next() % 3));
+                    }
+                }
+            }
+            let mut best = u64::MAX;
+            for code in 0..4u64.pow(5) {
+                let x: Vec<u64> = (0..5).map(|i| (code / 4u64.pow(i)) % 4).collect();
+                if edges.iter().all(|&(a, b, w)| x[a] + x[b] >= w) {
+                    best = best.min(x.iter().sum());
+                }
+            }
+            assert_eq!(min_weighted_cover(&edges), best, "{edges:?}");
+        }
     }
 }
