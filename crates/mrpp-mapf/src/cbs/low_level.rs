@@ -257,8 +257,14 @@ struct Node {
 
 /// The search's heuristic at `(v, t)`: the distance to the goal, or more when the last landmark
 /// must still be reached in time and the goal after it (`u32::MAX`: unreachable).
-fn landmark_h(q: &Query, v: VertexId, t: u32) -> u32 {
+fn landmark_h(q: &Query, blocked: &Blocked, v: VertexId, t: u32) -> u32 {
     let mut hv = (q.h)(v);
+    if let Some((from, d)) = blocked
+        && t >= *from
+        && hv != u32::MAX
+    {
+        hv = hv.max(d[v as usize]);
+    }
     // The agent cannot stay on its goal before its last constraint there is past (EECBS's
     // holding time, Li et al. AAAI 2021's code): without this bound a goal constraint far in
     // the future made A* expand every state whose distance-only `f` was below the arrival.
@@ -289,6 +295,37 @@ fn landmark_h(q: &Query, v: VertexId, t: u32) -> u32 {
     }
 }
 
+/// Distances to the goal avoiding every vertex of the agent's [`Constraint::VertexFrom`]
+/// constraints, and the time from which all of them hold (`None` without such constraints).
+/// From then on they are walls: a state that cannot reach the goal around them is dead, which
+/// spares the search every later time step when another agent's finished goal cuts it off (it
+/// used to expand every (vertex, time) up to its horizon to prove that).
+type Blocked = Option<(u32, Vec<u32>)>;
+
+fn blocked_distances(q: &Query) -> Blocked {
+    let c = q.constraints;
+    let from = c.forbidden_from.iter().map(|&(_, t)| t).max()?;
+    let n = q.graph.num_vertices();
+    let mut wall = vec![false; n];
+    for &(v, _) in &c.forbidden_from {
+        wall[v as usize] = true;
+    }
+    let mut d = vec![u32::MAX; n];
+    if !wall[q.goal as usize] {
+        d[q.goal as usize] = 0;
+        let mut queue = std::collections::VecDeque::from([q.goal]);
+        while let Some(u) = queue.pop_front() {
+            for &v in q.graph.neighbors(u) {
+                if !wall[v as usize] && d[v as usize] == u32::MAX {
+                    d[v as usize] = d[u as usize] + 1;
+                    queue.push_back(v);
+                }
+            }
+        }
+    }
+    Some((from, d))
+}
+
 /// Whether a state can still reach the next landmark in time (Manhattan distance: a lower bound
 /// on grids, 0 elsewhere); a state that cannot is dead.
 fn on_time(q: &Query, v: VertexId, t: u32) -> bool {
@@ -305,7 +342,11 @@ pub fn focal_search(q: &Query) -> Result<Found, NoPath> {
         return optimal_search(q);
     }
     let c = q.constraints;
-    let h = |v: VertexId, t: u32| landmark_h(q, v, t);
+    if c.goal_blocked {
+        return Err(NoPath::None);
+    }
+    let blocked = blocked_distances(q);
+    let h = |v: VertexId, t: u32| landmark_h(q, &blocked, v, t);
     let on_time = |v: VertexId, t: u32| on_time(q, v, t);
     let h0 = h(q.start, 0);
     if h0 == u32::MAX || !c.allows(q.start, q.start, 0) || !on_time(q.start, 0) {
@@ -431,7 +472,11 @@ pub fn focal_search(q: &Query) -> Result<Found, NoPath> {
 pub fn optimal_search(q: &Query) -> Result<Found, NoPath> {
     use std::cmp::Reverse;
     let c = q.constraints;
-    let h0 = landmark_h(q, q.start, 0);
+    if c.goal_blocked {
+        return Err(NoPath::None);
+    }
+    let blocked = blocked_distances(q);
+    let h0 = landmark_h(q, &blocked, q.start, 0);
     if h0 == u32::MAX || !c.allows(q.start, q.start, 0) || !on_time(q, q.start, 0) {
         return Err(NoPath::None);
     }
@@ -488,7 +533,7 @@ pub fn optimal_search(q: &Query) -> Result<Found, NoPath> {
             if !c.allows(v, w, nt) || !on_time(q, w, nt) {
                 continue;
             }
-            let hw = landmark_h(q, w, nt);
+            let hw = landmark_h(q, &blocked, w, nt);
             if hw == u32::MAX {
                 continue;
             }

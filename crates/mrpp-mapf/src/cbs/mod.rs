@@ -238,7 +238,8 @@ pub struct Cbs {
 pub struct Report {
     pub expanded: u64,
     pub generated: u64,
-    /// Proven lower bound on the optimal sum of costs when the plan was found.
+    /// Proven lower bound on the optimal sum of costs when the plan was found (or when the run
+    /// ended without one).
     pub lower_bound: u64,
     /// WDG: two-agent searches run (not answered by the memo).
     pub pair_searches: u64,
@@ -278,7 +279,8 @@ impl Cbs {
         })
     }
 
-    /// The report of the last successful run.
+    /// The report of the last run that got past its root (solved or not: then its lower bound
+    /// is the best the search proved).
     pub fn report(&self) -> Option<Report> {
         *self.last.lock().unwrap_or_else(|e| e.into_inner())
     }
@@ -300,14 +302,17 @@ impl Planner<MapfProblem> for Cbs {
                 "CBS handles the grid rules only (stay at the goal, following allowed)".into(),
             ));
         }
-        let (paths, report) = Search::new(problem, self.settings, ctx)?.run()?;
-        *self.last.lock().unwrap_or_else(|e| e.into_inner()) = Some(report);
+        let mut search = Search::new(problem, self.settings, ctx)?;
+        let outcome = search.run();
+        *self.last.lock().unwrap_or_else(|e| e.into_inner()) = Some(search.report());
+        let paths = outcome?;
         Ok(Plan {
             paths: paths.iter().map(|p| p.to_vec()).collect(),
         })
     }
 
-    /// `expanded`, `generated` (constraint-tree nodes) and `lower_bound` of the last plan.
+    /// `expanded`, `generated` (constraint-tree nodes) and `lower_bound` of the last run, solved
+    /// or not (a run that ran out of time proved that bound on the optimal sum of costs).
     fn notes(&self) -> serde_json::Map<String, serde_json::Value> {
         let mut m = serde_json::Map::new();
         if let Some(r) = self.report() {
@@ -419,6 +424,8 @@ struct Search<'a> {
     pair_memo: FxHashMap<PairKey, Option<u64>>,
     /// WDG: two-agent searches run (memo misses).
     pair_searches: u64,
+    /// The best lower bound on the optimal sum of costs proven so far.
+    lower_bound: u64,
 }
 
 /// Agents `a < b` and their sorted constraint lists.
@@ -480,6 +487,7 @@ impl<'a> Search<'a> {
             began: Instant::now(),
             pair_memo: FxHashMap::default(),
             pair_searches: 0,
+            lower_bound: 0,
         })
     }
 
@@ -1015,7 +1023,18 @@ impl<'a> Search<'a> {
         d as f64 * eh.max(0.0) / (1.0 - ed).max(0.1)
     }
 
-    fn run(mut self) -> Result<(Vec<Path>, Report), Unsolved> {
+    /// What the search has done so far.
+    fn report(&self) -> Report {
+        Report {
+            expanded: self.expanded,
+            generated: self.nodes.len() as u64,
+            lower_bound: self.lower_bound,
+            pair_searches: self.pair_searches,
+        }
+    }
+
+    /// The search: the optimal (or `w`-bounded) paths, or why there are none.
+    fn run(&mut self) -> Result<Vec<Path>, Unsolved> {
         let root = self.root()?;
         self.nodes.push(root);
         // CBS: min-heap on (cost, conflicts, id). EECBS: its three lists.
@@ -1029,7 +1048,7 @@ impl<'a> Search<'a> {
                 heap.push(std::cmp::Reverse((n.cost + n.h, n.conflicts.len(), id)));
             }
         };
-        push(&self, 0, &mut heap, &mut lists);
+        push(self, 0, &mut heap, &mut lists);
         loop {
             if self.ctx.deadline.expired() {
                 return Err(Unsolved::TimeLimit);
@@ -1069,15 +1088,10 @@ impl<'a> Search<'a> {
                     note: format!("sum of costs >= {lower_bound}"),
                 });
             }
+            self.lower_bound = self.lower_bound.max(lower_bound);
             let Some(children) = self.expand(k)? else {
-                let report = Report {
-                    expanded: self.expanded,
-                    generated: self.nodes.len() as u64,
-                    lower_bound,
-                    pair_searches: self.pair_searches,
-                };
-                let node = &self.nodes[k as usize];
-                return Ok((node.paths.clone(), report));
+                self.lower_bound = lower_bound;
+                return Ok(self.nodes[k as usize].paths.clone());
             };
             if self.settings.explicit_estimation
                 && let Some(best) = children.iter().min_by_key(|c| (c.cost, c.conflicts.len()))
@@ -1107,7 +1121,7 @@ impl<'a> Search<'a> {
                     let paid = child.cost.saturating_sub(parent_cost);
                     child.h = h.max(parent_h.saturating_sub(paid));
                 }
-                push(&self, id, &mut heap, &mut lists);
+                push(self, id, &mut heap, &mut lists);
             }
             // An expanded node is never expanded again and its children hold what they need
             // (their own paths, bounds, conflicts and shared MDDs); only its constraint and
