@@ -655,7 +655,7 @@ pub enum PeerRun {
     /// Killed at the limit (with everything it started).
     Killed { wall_ms: f64 },
     /// It exited 0 and wrote `text` to its result file. `peak_rss_kb`: the largest resident set
-    /// of the command and the processes it waited for (`ru_maxrss` of `wait4(2)`), in KiB.
+    /// of any process of the command, in KiB ([`PeakRss`]).
     Done {
         text: String,
         wall_ms: f64,
@@ -674,6 +674,7 @@ pub fn run_peer_command(
 ) -> PeerRun {
     use std::os::unix::process::CommandExt as _;
     let started = std::time::Instant::now();
+    let mut peak = PeakRss::new();
     // `Ok(Some((status, peak kB)))` when it ended, `Ok(None)` when it was killed at the limit.
     let finished: std::io::Result<Option<Reaped>> = (|| {
         let stderr = std::fs::File::create(stderr_path)?;
@@ -687,6 +688,7 @@ pub fn run_peer_command(
             .spawn()
             .and_then(|mut child| {
                 loop {
+                    peak.sample(child.id());
                     match reap(&child)? {
                         Some(done) => break Ok(Some(done)),
                         None if started.elapsed() < limit => {
@@ -717,7 +719,8 @@ pub fn run_peer_command(
         Ok(None) => return PeerRun::Killed { wall_ms },
         Ok(Some(done)) => done,
     };
-    let (status, peak_rss_kb) = status;
+    let (status, waited_kb) = status;
+    let peak_rss_kb = peak.result(waited_kb);
     match text.filter(|_| status.success()) {
         Some(text) => PeerRun::Done {
             text,
@@ -752,6 +755,82 @@ pub fn run_peer_command(
             }
         }
     }
+}
+
+/// A peer command's peak resident set. `ru_maxrss` of `wait4(2)` alone is wrong after mrpp's
+/// own jobs have grown the bench process: on Linux a process started from it inherits the
+/// bench's high-water mark when it calls `exec` (the kernel keeps the old memory's peak across
+/// `exec`), so every peer run after a 1.7 GB CBS job read 1,774 MB, even one of 40 ms. So on
+/// Linux the command's process tree is sampled (`VmHWM` in `/proc/PID/status`, children from
+/// `/proc/PID/task/TID/children`) each time its end is polled (every 5 ms), and `ru_maxrss` is
+/// taken only where it exceeds the bench's own high-water mark at the start (then it cannot be
+/// the inherited one). A process that lives less than one poll may be missed: a peak below the
+/// bench's own is then unknown. Elsewhere (macOS) `ru_maxrss` is used as it is.
+struct PeakRss {
+    /// The bench process's own high-water mark when the command started, KiB.
+    own_kb: Option<u64>,
+    /// The largest `VmHWM` sampled, KiB.
+    sampled_kb: Option<u64>,
+}
+
+impl PeakRss {
+    fn new() -> Self {
+        PeakRss {
+            own_kb: vm_hwm_kb("self"),
+            sampled_kb: None,
+        }
+    }
+
+    /// Samples the process tree under `pid` (Linux; nothing elsewhere).
+    fn sample(&mut self, pid: u32) {
+        if !cfg!(target_os = "linux") {
+            return;
+        }
+        let mut stack = vec![pid];
+        let mut seen = 0;
+        while let Some(p) = stack.pop() {
+            seen += 1;
+            if seen > 4096 {
+                break;
+            }
+            if let Some(kb) = vm_hwm_kb(&p.to_string()) {
+                self.sampled_kb = Some(self.sampled_kb.map_or(kb, |m| m.max(kb)));
+            }
+            let Ok(tasks) = std::fs::read_dir(format!("/proc/{p}/task")) else {
+                continue;
+            };
+            for task in tasks.flatten() {
+                let children =
+                    std::fs::read_to_string(task.path().join("children")).unwrap_or_default();
+                stack.extend(
+                    children
+                        .split_whitespace()
+                        .filter_map(|c| c.parse::<u32>().ok()),
+                );
+            }
+        }
+    }
+
+    /// The peak: the sampled one, or `ru_maxrss` (`waited_kb`) where it can be trusted.
+    fn result(&self, waited_kb: Option<u64>) -> Option<u64> {
+        if !cfg!(target_os = "linux") {
+            return waited_kb;
+        }
+        let trusted = waited_kb.filter(|&w| self.own_kb.is_some_and(|own| w > own));
+        match (self.sampled_kb, trusted) {
+            (Some(a), Some(b)) => Some(a.max(b)),
+            (a, b) => a.or(b),
+        }
+    }
+}
+
+/// `VmHWM` (peak resident set, KiB) of `/proc/{pid}/status`, if readable.
+fn vm_hwm_kb(pid: &str) -> Option<u64> {
+    let status = std::fs::read_to_string(format!("/proc/{pid}/status")).ok()?;
+    status
+        .lines()
+        .find_map(|l| l.strip_prefix("VmHWM:"))
+        .and_then(|v| v.trim().trim_end_matches("kB").trim().parse().ok())
 }
 
 /// `waitpid(WNOHANG)` on `child` with its resource usage: `Ok(None)` while it runs, else its
@@ -797,5 +876,46 @@ fn wait4(child: &std::process::Child, options: libc::c_int) -> std::io::Result<O
                 }
             }
         }
+    }
+}
+
+#[cfg(all(test, target_os = "linux"))]
+mod peak_rss_tests {
+    use super::{PeerRun, run_peer_command};
+
+    fn peak_mb(command: &str) -> f64 {
+        let dir = std::env::temp_dir().join(format!("mrpp-peak-{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let out = dir.join("out.txt");
+        let command = command.replace("{out}", &out.to_string_lossy());
+        let ran = run_peer_command(
+            &command,
+            &out,
+            &dir.join("stderr.txt"),
+            std::time::Duration::from_secs(30),
+        );
+        let _ = std::fs::remove_dir_all(&dir);
+        match ran {
+            PeerRun::Done { peak_rss_kb, .. } => peak_rss_kb.expect("a peak") as f64 / 1024.0,
+            other => panic!("{other:?}"),
+        }
+    }
+
+    /// A peer's peak is its own: about the 64 MB it touches, and a small peer started after this
+    /// process grew by 400 MB does not read this process's peak (`ru_maxrss` alone read at least
+    /// that: the kernel keeps the old memory's peak across `exec`).
+    #[test]
+    fn a_peers_peak_is_its_own_not_the_bench_process() {
+        let hog = "python3 -c \"import time; x = bytearray(64 << 20); time.sleep(0.2); open('{out}', 'w').write('solved=0')\"";
+        let big = peak_mb(hog);
+        assert!((64.0..64.0 + 80.0).contains(&big), "{big} MB");
+        let grown: Vec<u8> = vec![1; 400 << 20];
+        let small = peak_mb("sh -c \"sleep 0.05; echo solved=0 > '{out}'\"");
+        assert!(
+            small < 100.0,
+            "{small} MB after this process grew by {} MB",
+            grown.len() >> 20
+        );
+        drop(grown);
     }
 }

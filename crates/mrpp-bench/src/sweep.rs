@@ -44,7 +44,7 @@
 //! of costs and loss (the agents' shortest-path distances summed) and of the makespan (their
 //! largest; `mrpp solve` prints the same), the two ratios to the bound, and its peak memory: the heap bytes an mrpp planner
 //! had live at most above those live when it started (counted by the binary's allocator, so
-//! recorded only with `--jobs 1`: with more jobs at once the count would hold theirs too), or a peer process's peak resident set (`ru_maxrss`, which also
+//! recorded only with `--jobs 1`: with more jobs at once the count would hold theirs too), or a peer's peak resident set (the largest `VmHWM` of its processes, sampled every 5 ms on Linux, which also
 //! counts its code and libraries, so the two are not the same measure). The bounds take one
 //! shortest-path search per agent, once per instance, before the first run's clock starts.
 //!
