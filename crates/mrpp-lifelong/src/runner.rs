@@ -31,7 +31,7 @@ use crate::sim::Simulation;
 use crate::window_lns::{LnsOptions, WindowLns};
 
 /// lifelong-pibt's parameters: the scheduler, the guide paths and windowed LNS.
-const PIBT_PARAMS: [Param; 12] = [
+const PIBT_PARAMS: [Param; 13] = [
     Param {
         name: "scheduler",
         default: "greedy",
@@ -92,6 +92,11 @@ const PIBT_PARAMS: [Param; 12] = [
         default: "0",
         doc: "steps in 0..=1000 a re-assignment by hungarian or matching must save: a robot's own task costs this much less for it, so robots on their way turn back less often; 0 = the plain minimum-cost assignment",
     },
+    Param {
+        name: "lookahead",
+        default: "0",
+        doc: "steps in 0..=1000: with hungarian or matching, robots that will finish their task within this many steps bid for the open tasks from their last errand (arrival time added), and a task one of them wins is left for it rather than given to a robot that is free now; 0 = off",
+    },
 ];
 
 /// Rolling PIBT with rotations in the planner registry.
@@ -104,7 +109,7 @@ pub const PIBT_ENTRY: PlannerEntry<LifelongProblem> = PlannerEntry {
 
 /// lifelong-lns's parameters: lifelong-pibt's, with a window of 10 steps and the `hungarian`
 /// scheduler (`matching` above `hungarian_max`).
-const LNS_PARAMS: [Param; 14] = [
+const LNS_PARAMS: [Param; 15] = [
     Param {
         name: "scheduler",
         default: "hungarian",
@@ -135,6 +140,7 @@ const LNS_PARAMS: [Param; 14] = [
     PIBT_PARAMS[9],
     PIBT_PARAMS[10],
     PIBT_PARAMS[11],
+    PIBT_PARAMS[12],
 ];
 
 /// Windowed PIBT refined by LNS in the planner registry ([`crate::window_lns`]).
@@ -156,6 +162,7 @@ fn build(name: &'static str, p: &mrpp_core::Params) -> mrpp_core::Result<Lifelon
         hungarian_max: p.get_in("hungarian_max", 1..=5000)?,
         chain_weight: p.get_in("chain_weight", 0.0..=10.0)?,
         reassign_margin: p.get_in("reassign_margin", 0..=1000)?,
+        lookahead: p.get_in("lookahead", 0..=1000)?,
     };
     Ok(LifelongPibt {
         name,
