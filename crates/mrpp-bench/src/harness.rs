@@ -763,11 +763,13 @@ pub fn run_peer_command(
 /// `exec`), so every peer run after a 1.7 GB CBS job read 1,774 MB, even one of 40 ms. So on
 /// Linux the command's process tree is sampled (`VmHWM` in `/proc/PID/status`, children from
 /// `/proc/PID/task/TID/children`) each time its end is polled (every 5 ms), and `ru_maxrss` is
-/// taken only where it exceeds the bench's own high-water mark at the start (then it cannot be
+/// taken only where it exceeds the bench's own high-water mark read after the command was reaped
+/// (the mark only grows, so this covers growth between the start and the fork; then it cannot be
 /// the inherited one). A process that lives less than one poll may be missed: a peak below the
 /// bench's own is then unknown. Elsewhere (macOS) `ru_maxrss` is used as it is.
 struct PeakRss {
-    /// The bench process's own high-water mark when the command started, KiB.
+    /// The bench process's own high-water mark when the command started, KiB (a floor for the
+    /// one read in [`PeakRss::result`]).
     own_kb: Option<u64>,
     /// The largest `VmHWM` sampled, KiB.
     sampled_kb: Option<u64>,
@@ -816,7 +818,10 @@ impl PeakRss {
         if !cfg!(target_os = "linux") {
             return waited_kb;
         }
-        let trusted = waited_kb.filter(|&w| self.own_kb.is_some_and(|own| w > own));
+        // The bench's own mark after reaping: it may have grown after `new` and before the fork,
+        // and the inherited `ru_maxrss` is then above the first reading.
+        let own = vm_hwm_kb("self").max(self.own_kb);
+        let trusted = waited_kb.filter(|&w| own.is_some_and(|own| w > own));
         match (self.sampled_kb, trusted) {
             (Some(a), Some(b)) => Some(a.max(b)),
             (a, b) => a.or(b),

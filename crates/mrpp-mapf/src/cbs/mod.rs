@@ -87,7 +87,9 @@ use std::rc::Rc;
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
-use low_level::{AvoidanceTable, Constraint, Constraints, Found, NoPath, Query, focal_search};
+use low_level::{
+    AvoidanceTable, BlockedCache, Constraint, Constraints, Found, NoPath, Query, focal_search,
+};
 use mdd::Mdd;
 use mrpp_core::mapf::search::distance::{GoalDistances, UNREACHABLE};
 use mrpp_core::{
@@ -426,6 +428,8 @@ struct Search<'a> {
     pair_searches: u64,
     /// The best lower bound on the optimal sum of costs proven so far.
     lower_bound: u64,
+    /// Low-level distance tables around walls, shared between calls.
+    blocked: std::cell::RefCell<BlockedCache>,
 }
 
 /// Agents `a < b` and their sorted constraint lists.
@@ -433,8 +437,7 @@ type PairKey = (usize, usize, Vec<Constraint>, Vec<Constraint>);
 
 /// Expansions a WDG pair's two-agent CBS may make; past them its least open sum of costs stands
 /// for the pair's (a lower bound, so the heuristic stays admissible). CBSH2-RTC's sub-solver
-/// stops at 4 (`CBSHeuristic::node_limit` in Jiaoyang-Li/CBSH2-RTC); 16 here, its low level
-/// being mrpp's plain A*.
+/// stops at 4 (`CBSHeuristic::node_limit` in Jiaoyang-Li/CBSH2-RTC); mrpp uses the same.
 pub const PAIR_EXPANSIONS: u64 = 4;
 
 /// Most entries of the WDG memo before it is emptied (about 100 bytes each plus the lists).
@@ -488,6 +491,7 @@ impl<'a> Search<'a> {
             pair_memo: FxHashMap::default(),
             pair_searches: 0,
             lower_bound: 0,
+            blocked: Default::default(),
         })
     }
 
@@ -541,6 +545,7 @@ impl<'a> Search<'a> {
             avoid,
             w: self.settings.w,
             deadline: self.ctx.deadline,
+            blocked: Some(&self.blocked),
         }) {
             Ok(found) => Ok(Some(found)),
             Err(NoPath::None) => Ok(None),
@@ -701,7 +706,7 @@ impl<'a> Search<'a> {
 
     /// The CG, DG or WDG heuristic of node `k` (Felner, Li, Boyarski, Ma, Cohen, Kumar, Koenig,
     /// "Adding heuristics to conflict-based search for multi-agent path finding", ICAPS 2018):
-    /// every pair of agents whose (first) conflict is cardinal for both must raise the sum of
+    /// every pair of agents with a conflict that is cardinal for both must raise the sum of
     /// costs by at least one between them, so a minimum vertex cover of the graph of those pairs
     /// is a lower bound on what resolving the node's conflicts adds ([`min_vertex_cover`]).
     ///
