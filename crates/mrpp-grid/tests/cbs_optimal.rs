@@ -168,6 +168,10 @@ fn cbs_and_eecbs_match_brute_force() {
             heuristic: mrpp_grid::cbs::Heuristic::Wdg,
             ..Cbs::optimal().settings
         });
+        let rectangle = Cbs::new(mrpp_grid::cbs::Settings {
+            rectangle: true,
+            ..Cbs::optimal().settings
+        });
         for (name, planner) in [
             ("cbs", Cbs::optimal()),
             ("cbs without a heuristic", plain),
@@ -177,6 +181,7 @@ fn cbs_and_eecbs_match_brute_force() {
             ("cbs without target reasoning", no_target),
             ("cbs standard splitting", standard),
             ("cbs standard splitting, WDG", standard_wdg),
+            ("cbs with rectangle reasoning", rectangle),
             ("eecbs(1)", Cbs::eecbs(1.0)),
         ] {
             match solve(&planner, &problem, &ctx()) {
@@ -217,7 +222,7 @@ fn cbs_and_eecbs_match_brute_force() {
 
 /// Beyond brute force's reach: on 24 seeded 7 x 7 grids with 20 % walls and 6..=14 agents, every
 /// optimal variant (heuristic none, CG, WDG; target reasoning on and off; disjoint and standard
-/// splitting; EECBS(1)) that returns within 1 s returns the same sum of costs, and the
+/// splitting; rectangle reasoning with none and CG; EECBS(1)) that returns within 1 s returns the same sum of costs, and the
 /// default solves at least 80 % of them.
 #[test]
 fn optimal_variants_agree_on_larger_grids() {
@@ -281,6 +286,14 @@ fn optimal_variants_agree_on_larger_grids() {
                 }
             }
         }
+        for heuristic in [Heuristic::None, Heuristic::Cg] {
+            let s = Settings {
+                heuristic,
+                rectangle: true,
+                ..base
+            };
+            variants.push((format!("{s:?}"), Cbs::new(s)));
+        }
         variants.push(("eecbs(1)".into(), Cbs::eecbs(1.0)));
         let mut agreed: Option<(u64, String)> = None;
         for (name, planner) in &variants {
@@ -313,5 +326,71 @@ fn optimal_variants_agree_on_larger_grids() {
     assert!(
         default_solved * 10 >= cases * 8,
         "the default solved {default_solved} of {cases}"
+    );
+}
+
+/// Rectangle reasoning where it fires: on 30 seeded instances on an open 9 x 9 grid with 8..=16
+/// agents, CBS with and without it (CG and WDG heuristics, EECBS(1)) returns the same sum of
+/// costs whenever both return within 1 s, and it splits on barriers in some of them.
+#[test]
+fn rectangle_reasoning_keeps_costs_optimal_on_open_grids() {
+    use mrpp_grid::cbs::{Heuristic, Settings};
+    let mut rng = ChaCha8Rng::seed_from_u64(202_612_059);
+    let (mut compared, mut with_rectangles) = (0, 0);
+    for case in 0..30 {
+        let map = GridMap::from_free_rows(&vec![vec![true; 9]; 9]);
+        let g = map.graph();
+        let cells: Vec<VertexId> = (0..g.num_vertices() as VertexId).collect();
+        let agents = rng.random_range(8..=16usize);
+        let starts: Vec<VertexId> = cells.sample(&mut rng, agents).copied().collect();
+        let goals: Vec<VertexId> = cells.sample(&mut rng, agents).copied().collect();
+        let inst = Instance::new(starts, goals).unwrap();
+        let problem = MapfProblem::on(g, &inst, Rules::default());
+        let base = Cbs::optimal().settings;
+        let mut agreed: Option<(u64, String)> = None;
+        for heuristic in [Heuristic::Cg, Heuristic::Wdg] {
+            for rectangle in [true, false] {
+                let s = Settings {
+                    heuristic,
+                    rectangle,
+                    ..base
+                };
+                let planner = Cbs::new(s);
+                let ctx = Ctx::new(0, Deadline::after(Duration::from_secs(1)));
+                match solve(&planner, &problem, &ctx) {
+                    Ok(run) => {
+                        let cost = run.metrics.sum_of_costs;
+                        let name = format!("{s:?}");
+                        if let Some((c, first)) = &agreed {
+                            assert_eq!(cost, *c, "case {case}: {name} against {first} on {inst:?}");
+                        } else {
+                            agreed = Some((cost, name));
+                        }
+                        if rectangle && planner.report().is_some_and(|r| r.rectangles > 0) {
+                            with_rectangles += 1;
+                        }
+                    }
+                    Err(Unsolved::TimeLimit) => {}
+                    Err(e) => panic!("case {case}: {s:?} on {inst:?}: {e}"),
+                }
+            }
+        }
+        if let Ok(run) = solve(
+            &Cbs::eecbs(1.0),
+            &problem,
+            &Ctx::new(0, Deadline::after(Duration::from_secs(1))),
+        ) && let Some((c, first)) = &agreed
+        {
+            assert_eq!(
+                run.metrics.sum_of_costs, *c,
+                "case {case}: eecbs(1) against {first}"
+            );
+        }
+        compared += usize::from(agreed.is_some());
+    }
+    assert!(compared >= 20, "only {compared} of 30 open grids solved");
+    assert!(
+        with_rectangles >= 5,
+        "rectangle splits in only {with_rectangles} runs"
     );
 }

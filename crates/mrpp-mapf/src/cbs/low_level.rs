@@ -38,6 +38,20 @@ pub enum Constraint {
     /// Implied by another agent's [`Constraint::FinishBy`]: the agent is not at `v` at any time
     /// from `t` on.
     VertexFrom { v: VertexId, t: u32 },
+    /// Rectangle reasoning's barrier (Li, Harabor, Stuckey, Ma, Koenig, AAAI 2019): the agent is
+    /// not at the `k`-th cell of a straight run of grid cells at time `t + k`, for `k` in
+    /// `0..len`. The run starts at grid cell `(x, y)` and goes one cell per step along `dir`
+    /// (0: +x, 1: -x, 2: +y, 3: -y); blocked cells are skipped. It needs the grid to be read, so
+    /// CBS turns it into [`Constraint::Vertex`] constraints before any search sees it
+    /// ([`Constraint::barrier_cells`]); [`Constraint::holds_on`] and [`Constraints::new`] never
+    /// see one.
+    Barrier {
+        x: u32,
+        y: u32,
+        t: u32,
+        len: u16,
+        dir: u8,
+    },
 }
 
 impl Constraint {
@@ -56,7 +70,23 @@ impl Constraint {
         }
     }
 
+    /// The `(x, y, t)` grid cells and times of a [`Constraint::Barrier`] (empty for any other
+    /// constraint); cells off the grid's non-negative quadrant end the run.
+    pub fn barrier_cells(&self) -> Vec<(u32, u32, u32)> {
+        let Constraint::Barrier { x, y, t, len, dir } = *self else {
+            return Vec::new();
+        };
+        let (dx, dy): (i64, i64) = [(1, 0), (-1, 0), (0, 1), (0, -1)][dir as usize & 3];
+        (0..i64::from(len))
+            .map_while(|k| {
+                let (cx, cy) = (i64::from(x) + dx * k, i64::from(y) + dy * k);
+                (cx >= 0 && cy >= 0).then(|| (cx as u32, cy as u32, t + k as u32))
+            })
+            .collect()
+    }
+
     /// Whether `path` (stay semantics: the agent rests on its last vertex) obeys this constraint.
+    /// A [`Constraint::Barrier`] is taken as obeyed (it is checked as its vertex constraints).
     pub fn holds_on(&self, path: &[VertexId]) -> bool {
         let at = |t: u32| path[(t as usize).min(path.len() - 1)];
         match *self {
@@ -69,6 +99,7 @@ impl Constraint {
             Constraint::VertexFrom { v, t } => {
                 path.iter().skip(t as usize).all(|&x| x != v) && at(t) != v
             }
+            Constraint::Barrier { .. } => true,
         }
     }
 }
@@ -131,6 +162,8 @@ impl Constraints {
                     c.goal_blocked |= v == goal;
                     c.last_t = c.last_t.max(t);
                 }
+                // Turned into vertex constraints by CBS before a search (variant doc).
+                Constraint::Barrier { .. } => {}
             }
         }
         c.landmarks.sort_unstable();

@@ -78,12 +78,44 @@ impl Mdd {
                 self.levels.iter().skip(t as usize).any(|l| l.contains(&v))
                     || (v == goal && t as usize >= self.levels.len())
             }
-            // Positive and length constraints are never added to other agents.
+            // Positive, length and barrier constraints are never added to other agents.
             Constraint::AtVertex { .. }
             | Constraint::Traverses { .. }
             | Constraint::FinishBy { .. }
-            | Constraint::FinishAfter { .. } => true,
+            | Constraint::FinishAfter { .. }
+            | Constraint::Barrier { .. } => true,
         }
+    }
+
+    /// Whether every path of this MDD is at one of `cells` (vertex, time) at its time (steps
+    /// past the cost: on the goal, the last level's vertex): then forbidding them raises the
+    /// agent's cost (rectangle reasoning's cardinality test).
+    pub fn blocked_by(&self, graph: &Graph, cells: &[(VertexId, u32)]) -> bool {
+        let last = self.levels.len() - 1;
+        let goal = self.levels[last].first().copied();
+        if cells
+            .iter()
+            .any(|&(v, t)| t as usize >= last && Some(v) == goal)
+        {
+            return true;
+        }
+        let hit = |v: VertexId, t: usize| cells.iter().any(|&(w, s)| w == v && s as usize == t);
+        let mut reach: Vec<VertexId> = self.levels[0]
+            .iter()
+            .copied()
+            .filter(|&v| !hit(v, 0))
+            .collect();
+        for t in 1..=last {
+            reach = self.levels[t]
+                .iter()
+                .copied()
+                .filter(|&v| !hit(v, t) && reach.iter().any(|&u| u == v || graph.has_edge(u, v)))
+                .collect();
+            if reach.is_empty() {
+                return true;
+            }
+        }
+        false
     }
 
     /// Whether the agent must be at one vertex at step `t` (steps past the cost: on its goal).

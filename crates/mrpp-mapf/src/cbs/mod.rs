@@ -63,8 +63,19 @@
 //! counts the last constraint on an agent's goal in its heuristic (the agent cannot finish
 //! before it: EECBS's *holding time*); both cut CBS's time about in half on random-32-32-20.
 //!
-//! Not implemented (named for users comparing with the literature): rectangle and corridor
-//! reasoning (CBSH2-RTC, Li et al., AIJ 2021).
+//! *Rectangle reasoning* (Li, Harabor, Stuckey, Ma, Koenig, AAAI 2019; `-p rectangle=true`, off
+//! by default): when a node has no cardinal conflict, a vertex conflict of two agents crossing a
+//! rectangle of the grid on time is split on *barriers* (a row or column of the rectangle, each
+//! cell at the time the agent would reach it), one per agent, which rules out every pair of
+//! their crossing paths at once. CBSH2-RTC takes the rectangle's corners from the current paths'
+//! MDD singletons, which a longer path need not pass; mrpp keeps a split only where lower bounds
+//! on the agents' arrival times (distances from their starts) prove that any two paths on both
+//! barriers collide ([`Search::rectangle`] has the conditions and the argument). On MovingAI
+//! maps those conditions seldom hold (paths that bend around obstacles can reach part of the
+//! rectangle early): on den520d with 100 agents 312 of 13,449 conflicts tried passed, none
+//! cardinal, and on random-32-32-20 it did not raise the proven bound within 20 s
+//! (docs/performance.md), hence off by default. Corridor reasoning (Li et al., ICAPS 2020) is
+//! not implemented: on den520d no split conflict lay in a corridor.
 //!
 //! *Unsolvable instances*: the constraint tree of an instance without a plan is infinite, and
 //! CBS grew to 4.6 GB in 60 s on two agents swapping the ends of a 10-cell corridor. After 256
@@ -132,6 +143,11 @@ pub const CBS_ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             default: "true",
             doc: "target reasoning: split a conflict on an agent's goal after it arrived by that agent's cost, at most or more than the conflict's time (Li et al., ICAPS 2020)",
         },
+        Param {
+            name: "rectangle",
+            default: "false",
+            doc: "rectangle reasoning on grids: when no conflict is cardinal, a conflict of two agents crossing a rectangle on time splits on barriers, one per agent, instead of one cell (Li et al., AAAI 2019), under arrival-time conditions that keep every conflict-free pair of paths (cbs/mod.rs, `Search::rectangle`); used with MDD prioritisation. Off by default: it fired on few conflicts of MovingAI maps and did not raise the proven bound (docs/performance.md)",
+        },
     ],
     build: |p| {
         Ok(Box::new(Cbs::new(Settings {
@@ -141,6 +157,7 @@ pub const CBS_ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             bypass: p.choice("bypass", &["false", "true"])? == 1,
             disjoint: p.choice("splitting", &["standard", "disjoint"])? == 1,
             target: p.choice("target", &["false", "true"])? == 1,
+            rectangle: p.choice("rectangle", &["false", "true"])? == 1,
             heuristic: [
                 Heuristic::None,
                 Heuristic::Cg,
@@ -176,6 +193,11 @@ pub const EECBS_ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             default: "true",
             doc: "target reasoning: split a conflict on an agent's goal after it arrived by that agent's cost, at most or more than the conflict's time (Li et al., ICAPS 2020)",
         },
+        Param {
+            name: "rectangle",
+            default: "false",
+            doc: "rectangle reasoning on grids: when no conflict is cardinal, a conflict of two agents crossing a rectangle on time splits on barriers, one per agent, instead of one cell (Li et al., AAAI 2019), under arrival-time conditions that keep every conflict-free pair of paths (cbs/mod.rs, `Search::rectangle`); used with MDD prioritisation. Off by default: it fired on few conflicts of MovingAI maps and did not raise the proven bound (docs/performance.md)",
+        },
     ],
     build: |p| {
         let w: f64 = p.get_in("w", 1.0..=1000.0)?;
@@ -186,6 +208,7 @@ pub const EECBS_ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             bypass: p.choice("bypass", &["false", "true"])? == 1,
             disjoint: p.choice("splitting", &["standard", "disjoint"])? == 1,
             target: p.choice("target", &["false", "true"])? == 1,
+            rectangle: p.choice("rectangle", &["false", "true"])? == 1,
             heuristic: Heuristic::None,
         })))
     },
@@ -205,6 +228,9 @@ pub struct Settings {
     pub disjoint: bool,
     /// Target reasoning (Li et al., ICAPS 2020; [`Search::split`]).
     pub target: bool,
+    /// Rectangle reasoning on grids (Li et al., AAAI 2019; [`Search::rectangle`]); used with
+    /// `prioritize` only (it needs the MDDs).
+    pub rectangle: bool,
     /// CBS: the heuristic added to each node's sum of costs in the best-first order (ignored
     /// by EECBS).
     pub heuristic: Heuristic,
@@ -245,6 +271,8 @@ pub struct Report {
     pub lower_bound: u64,
     /// WDG: two-agent searches run (not answered by the memo).
     pub pair_searches: u64,
+    /// Rectangle reasoning: conflicts split on barriers.
+    pub rectangles: u64,
 }
 
 impl Cbs {
@@ -264,6 +292,7 @@ impl Cbs {
             bypass: true,
             disjoint: true,
             target: true,
+            rectangle: false,
             heuristic: Heuristic::Cg,
         })
     }
@@ -277,6 +306,7 @@ impl Cbs {
             bypass: true,
             disjoint: true,
             target: true,
+            rectangle: false,
             heuristic: Heuristic::None,
         })
     }
@@ -323,6 +353,9 @@ impl Planner<MapfProblem> for Cbs {
             m.insert("lower_bound".into(), r.lower_bound.into());
             if self.settings.heuristic == Heuristic::Wdg {
                 m.insert("pair_searches".into(), r.pair_searches.into());
+            }
+            if self.settings.rectangle && self.settings.prioritize {
+                m.insert("rectangles".into(), r.rectangles.into());
             }
         }
         m
@@ -426,10 +459,69 @@ struct Search<'a> {
     pair_memo: FxHashMap<PairKey, Option<u64>>,
     /// WDG: two-agent searches run (memo misses).
     pair_searches: u64,
+    /// Conflicts split on rectangle barriers.
+    rectangles: u64,
     /// The best lower bound on the optimal sum of costs proven so far.
     lower_bound: u64,
     /// Low-level distance tables around walls, shared between calls.
     blocked: std::cell::RefCell<BlockedCache>,
+    /// Rectangle reasoning: the grid's vertex at each cell (built on first use; `None` before,
+    /// or on graphs without coordinates).
+    grid: Option<GridIndex>,
+    grid_built: bool,
+    /// Rectangle reasoning: distances from each agent's start (built on first use, within
+    /// [`START_TABLE_BYTES`] in all).
+    start_dist: Vec<Option<Rc<Vec<u32>>>>,
+    start_dist_bytes: usize,
+    /// The split [`Search::choose`] found by rectangle reasoning for the conflict it returned.
+    rectangle_split: Option<Split>,
+}
+
+/// The two children of a split: a constraint on an agent each.
+type Split = [(usize, Constraint); 2];
+
+/// Most bytes of start-distance tables rectangle reasoning keeps (agents past it get none, so
+/// their conflicts are not tried as rectangles).
+const START_TABLE_BYTES: usize = 512 << 20;
+
+/// Most non-cardinal conflicts of a node tried as rectangles when it has no cardinal one.
+const RECTANGLE_TRIES: usize = 64;
+
+/// A grid graph's vertex at each cell: `cells[y * width + x]` (`u32::MAX`: none).
+struct GridIndex {
+    width: u32,
+    height: u32,
+    cells: Vec<VertexId>,
+}
+
+impl GridIndex {
+    fn of(graph: &mrpp_core::Graph) -> Option<GridIndex> {
+        let mut width = 0;
+        let mut height = 0;
+        for v in 0..graph.num_vertices() as VertexId {
+            let (x, y) = graph.coord(v)?;
+            width = width.max(x + 1);
+            height = height.max(y + 1);
+        }
+        let mut cells = vec![u32::MAX; width as usize * height as usize];
+        for v in 0..graph.num_vertices() as VertexId {
+            let (x, y) = graph.coord(v)?;
+            cells[(y * width + x) as usize] = v;
+        }
+        Some(GridIndex {
+            width,
+            height,
+            cells,
+        })
+    }
+
+    fn at(&self, x: i64, y: i64) -> Option<VertexId> {
+        if x < 0 || y < 0 || x >= i64::from(self.width) || y >= i64::from(self.height) {
+            return None;
+        }
+        let v = self.cells[(y * i64::from(self.width) + x) as usize];
+        (v != u32::MAX).then_some(v)
+    }
 }
 
 /// Agents `a < b` and their sorted constraint lists.
@@ -490,8 +582,14 @@ impl<'a> Search<'a> {
             began: Instant::now(),
             pair_memo: FxHashMap::default(),
             pair_searches: 0,
+            rectangles: 0,
             lower_bound: 0,
             blocked: Default::default(),
+            grid: None,
+            grid_built: false,
+            start_dist: vec![None; inst.num_agents()],
+            start_dist_bytes: 0,
+            rectangle_split: None,
         })
     }
 
@@ -506,13 +604,31 @@ impl<'a> Search<'a> {
         while k != u32::MAX {
             let node = &self.nodes[k as usize];
             match node.added {
-                Some((j, c)) if j == i => out.push(c),
+                Some((j, c)) if j == i => out.extend(self.vertex_form(c)),
                 Some((_, c)) => out.extend(c.implied_for_others()),
                 None => {}
             }
             k = node.parent;
         }
         out
+    }
+
+    /// `c` as the searches take it: a [`Constraint::Barrier`] as its vertex constraints (the
+    /// cells of it on the grid), anything else as itself.
+    fn vertex_form(&self, c: Constraint) -> Vec<Constraint> {
+        if !matches!(c, Constraint::Barrier { .. }) {
+            return vec![c];
+        }
+        let Some(grid) = &self.grid else {
+            return Vec::new();
+        };
+        c.barrier_cells()
+            .into_iter()
+            .filter_map(|(x, y, t)| {
+                grid.at(i64::from(x), i64::from(y))
+                    .map(|v| Constraint::Vertex { v, t })
+            })
+            .collect()
     }
 
     /// Plans agent `i` under `list` against `paths` (the other agents' paths for tie-breaking).
@@ -602,10 +718,11 @@ impl<'a> Search<'a> {
         let mut paths = parent.paths.clone();
         let mut lbs = parent.lbs.clone();
         let implied = c.implied_for_others();
+        let own = self.vertex_form(c);
         let mut changed = Vec::new();
         for j in 0..paths.len() {
             let broken = if j == i {
-                !c.holds_on(&paths[j])
+                own.iter().any(|x| !x.holds_on(&paths[j]))
             } else {
                 implied.iter().any(|x| !x.holds_on(&paths[j]))
             };
@@ -614,7 +731,7 @@ impl<'a> Search<'a> {
             }
             let mut list = self.constraints_of(k, j);
             if j == i {
-                list.push(c);
+                list.extend(own.iter().copied());
             } else {
                 list.extend(implied.iter().copied());
             }
@@ -891,13 +1008,14 @@ impl<'a> Search<'a> {
     /// target conflict ([`Search::split`]) first, as CBSH2-RTC does, then the earliest. Without
     /// prioritisation simply the earliest.
     fn choose(&mut self, k: u32) -> Conflict {
+        self.rectangle_split = None;
         let mut conflicts = self.nodes[k as usize].conflicts.clone();
         conflicts.sort_by_key(|c| (c.t, c.a, c.b));
         if !self.settings.prioritize {
             return conflicts[0];
         }
         let mut best: Option<((u8, bool), Conflict)> = None;
-        for c in conflicts {
+        for &c in &conflicts {
             let cardinality = 2
                 - u8::from(self.cardinal_for(k, &c, c.a))
                 - u8::from(self.cardinal_for(k, &c, c.b));
@@ -909,7 +1027,262 @@ impl<'a> Search<'a> {
                 }
             }
         }
-        best.expect("a node with conflicts").1
+        let (rank, chosen) = best.expect("a node with conflicts");
+        if !self.settings.rectangle || rank.0 == 0 {
+            return chosen;
+        }
+        // No cardinal conflict: a rectangle conflict at least as cardinal is split on barriers
+        // instead (CBSH2-RTC prefers it too).
+        let mut found: Option<(u8, Conflict, Split)> = None;
+        for c in conflicts
+            .iter()
+            .filter(|c| matches!(c.kind, Kind::Vertex(_)))
+            .take(RECTANGLE_TRIES)
+        {
+            if self.target_holder(k, c).is_some() {
+                continue;
+            }
+            if let Some((cardinal, split)) = self.rectangle(k, c) {
+                let r = 2 - cardinal;
+                if r <= rank.0 && found.as_ref().is_none_or(|(fr, ..)| r < *fr) {
+                    found = Some((r, *c, split));
+                    if r == 0 {
+                        break;
+                    }
+                }
+            }
+        }
+        match found {
+            Some((_, c, split)) => {
+                self.rectangle_split = Some(split);
+                c
+            }
+            None => chosen,
+        }
+    }
+
+    /// Distances from agent `i`'s start (`None` past [`START_TABLE_BYTES`] of tables).
+    fn start_distances(&mut self, i: usize) -> Option<Rc<Vec<u32>>> {
+        if let Some(d) = &self.start_dist[i] {
+            return Some(d.clone());
+        }
+        let graph = self.problem.graph();
+        let bytes = graph.num_vertices() * 4;
+        if self.start_dist_bytes + bytes > START_TABLE_BYTES {
+            return None;
+        }
+        self.start_dist_bytes += bytes;
+        let d = Rc::new(mrpp_core::mapf::search::distance::bfs_distances(
+            graph,
+            self.problem.instance().starts[i],
+        ));
+        self.start_dist[i] = Some(d.clone());
+        Some(d)
+    }
+
+    /// Rectangle reasoning for vertex conflict `c` at node `k` (Li, Harabor, Stuckey, Ma,
+    /// Koenig, "Symmetry-breaking constraints for grid-based multi-agent path finding", AAAI
+    /// 2019; CBSH2-RTC, Li et al., AIJ 2021): the number of agents (0-2) whose cost each barrier
+    /// raises, and the split: a barrier on each agent. `None` when the conflict is not a
+    /// rectangle conflict by the conditions below.
+    ///
+    /// Around the conflict at `c0`, `t0`, each agent's path is followed back and forth while it
+    /// moves without waiting and without turning back on either axis; turned so that both move
+    /// towards `+x` and `+y`, the segments run from `s_i` to `g_i`, and the rectangle `R` runs
+    /// from `Rs = max(s1, s2)` to `Rg = min(g1, g2)` (componentwise). On the *plane* `t = K + x +
+    /// y` (`K = t0 - c0.x - c0.y`) both agents are at `c0` together. The agent entering `R` from
+    /// the top (`x`) gets the barrier of `R`'s bottom row, each cell at its plane time; the one
+    /// from the left the barrier of `R`'s right column.
+    ///
+    /// The split must keep every pair of conflict-free paths in a child: a pair on both
+    /// barriers must collide. CBSH2-RTC's rectangle starts and ends are points of the current
+    /// paths, which a longer path need not pass; here it is ensured instead by lower bounds on
+    /// arrival times (`d`, breadth-first distances from the agent's start). For the agent from
+    /// the top, with `p(v) = K + x + y`: (i) `d(v) >= p(v)` on every cell of `R` (it is never
+    /// early inside `R`); (ii) `d(v) > p(v)` on the column left of `R` (it cannot enter `R` from
+    /// the left on the plane); (iii) `d(v) >= p(v) - 1` on the row below and the column right of
+    /// `R` (it cannot step back into `R` onto the plane); (iv) its start is outside `R` or on
+    /// its top row. The agent from the left: the same with rows and columns swapped. Then `t -
+    /// x - y` never falls along a path, so a path at a barrier cell at its plane time was on the
+    /// plane all the while it was in `R`, on a monotone staircase that entered `R` through its
+    /// top side (the other's through its left side); the two staircases cross at a cell, where
+    /// both are at the same plane time. The split is kept only when both current paths are on
+    /// their barriers. A barrier raises its agent's cost when every path of its MDD meets it.
+    fn rectangle(&mut self, k: u32, c: &Conflict) -> Option<(u8, Split)> {
+        let Kind::Vertex(v0) = c.kind else {
+            return None;
+        };
+        if !self.grid_built {
+            self.grid = GridIndex::of(self.problem.graph());
+            self.grid_built = true;
+        }
+        self.grid.as_ref()?;
+        let graph = self.problem.graph();
+        let t0 = c.t as usize;
+        let agents = [c.a, c.b];
+        let paths = [
+            self.nodes[k as usize].paths[c.a].clone(),
+            self.nodes[k as usize].paths[c.b].clone(),
+        ];
+        if paths.iter().any(|p| t0 >= p.len()) {
+            return None;
+        }
+        let coord = |v: VertexId| {
+            let (x, y) = graph.coord(v).expect("a grid graph");
+            (i64::from(x), i64::from(y))
+        };
+        // The monotone segment around t0 and its signs on both axes (0: no move on that axis).
+        let segment = |p: &[VertexId]| {
+            let (mut sx, mut sy) = (0i64, 0i64);
+            let mut fits = |t: usize| {
+                let (a, b) = (coord(p[t - 1]), coord(p[t]));
+                let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+                if dx.abs() + dy.abs() != 1 {
+                    return false;
+                }
+                for (d, s) in [(dx, &mut sx), (dy, &mut sy)] {
+                    if d != 0 {
+                        if *s == 0 {
+                            *s = d;
+                        } else if *s != d {
+                            return false;
+                        }
+                    }
+                }
+                true
+            };
+            let mut ts = t0;
+            while ts > 0 && fits(ts) {
+                ts -= 1;
+            }
+            let mut tg = t0;
+            while tg + 1 < p.len() && fits(tg + 1) {
+                tg += 1;
+            }
+            (ts, tg, sx, sy)
+        };
+        let (s1t, g1t, sx1, sy1) = segment(&paths[0]);
+        let (s2t, g2t, sx2, sy2) = segment(&paths[1]);
+        let combine = |a: i64, b: i64| match (a, b) {
+            (0, 0) => None,
+            (0, b) => Some(b),
+            (a, 0) => Some(a),
+            (a, b) => (a == b).then_some(a),
+        };
+        let (sx, sy) = (combine(sx1, sx2)?, combine(sy1, sy2)?);
+        let tr = |v: VertexId| {
+            let (x, y) = coord(v);
+            (sx * x, sy * y)
+        };
+        let (s1, g1) = (tr(paths[0][s1t]), tr(paths[0][g1t]));
+        let (s2, g2) = (tr(paths[1][s2t]), tr(paths[1][g2t]));
+        let rs = (s1.0.max(s2.0), s1.1.max(s2.1));
+        let rg = (g1.0.min(g2.0), g1.1.min(g2.1));
+        if rs.0 > rg.0 || rs.1 > rg.1 || rs == rg {
+            return None;
+        }
+        if (rg.0 - rs.0 + 1) * (rg.1 - rs.1 + 1) > 10_000 {
+            return None;
+        }
+        let (top, left) = if s1.0 <= s2.0 && s1.1 >= s2.1 {
+            (0, 1)
+        } else if s2.0 <= s1.0 && s2.1 >= s1.1 {
+            (1, 0)
+        } else {
+            return None;
+        };
+        let c0 = tr(v0);
+        let kk = t0 as i64 - c0.0 - c0.1;
+        if kk + rs.0 + rs.1 < 0 {
+            return None;
+        }
+        let dists = [
+            self.start_distances(agents[0])?,
+            self.start_distances(agents[1])?,
+        ];
+        let grid = self.grid.as_ref()?;
+        let vertex = |p: (i64, i64)| grid.at(sx * p.0, sy * p.1);
+        let plane = |p: (i64, i64)| kk + p.0 + p.1;
+        let starts = &self.problem.instance().starts;
+        let sound = |side: usize, from_top: bool| {
+            let d = &dists[side];
+            let early = |p: (i64, i64), slack: i64| {
+                vertex(p).is_some_and(|v| {
+                    let dv = d[v as usize];
+                    dv != UNREACHABLE && i64::from(dv) < plane(p) + slack
+                })
+            };
+            for x in rs.0..=rg.0 {
+                for y in rs.1..=rg.1 {
+                    if early((x, y), 0) {
+                        return false;
+                    }
+                }
+            }
+            let side_in = if from_top {
+                (rs.0..=rg.0).any(|x| early((x, rs.1 - 1), 1))
+            } else {
+                (rs.1..=rg.1).any(|y| early((rs.0 - 1, y), 1))
+            };
+            if side_in
+                || (rs.1..=rg.1).any(|y| early((rg.0 + 1, y), -1))
+                || (rs.0..=rg.0).any(|x| early((x, rg.1 + 1), -1))
+            {
+                return false;
+            }
+            let st = tr(starts[agents[side]]);
+            let inside = (rs.0..=rg.0).contains(&st.0) && (rs.1..=rg.1).contains(&st.1);
+            !inside || (from_top && st.0 == rs.0) || (!from_top && st.1 == rs.1)
+        };
+        if !sound(top, true) || !sound(left, false) {
+            return None;
+        }
+        // The barriers: (vertex, time) of each cell, and the constraint.
+        let cells = |from: (i64, i64), step: (i64, i64), len: i64| -> Vec<(VertexId, u32)> {
+            (0..len)
+                .filter_map(|i| {
+                    let p = (from.0 + step.0 * i, from.1 + step.1 * i);
+                    vertex(p).map(|v| (v, plane(p) as u32))
+                })
+                .collect()
+        };
+        let top_len = rg.1 - rs.1 + 1;
+        let left_len = rg.0 - rs.0 + 1;
+        if top_len > i64::from(u16::MAX) || left_len > i64::from(u16::MAX) {
+            return None;
+        }
+        let top_cells = cells((rg.0, rs.1), (0, 1), top_len);
+        let left_cells = cells((rs.0, rg.1), (1, 0), left_len);
+        let on = |p: &[VertexId], cells: &[(VertexId, u32)]| {
+            cells.iter().any(|&(v, t)| at(p, t as usize) == v)
+        };
+        if !on(&paths[top], &top_cells) || !on(&paths[left], &left_cells) {
+            return None;
+        }
+        let barrier = |from: (i64, i64), along_x: bool, len: i64| Constraint::Barrier {
+            x: (sx * from.0) as u32,
+            y: (sy * from.1) as u32,
+            t: plane(from) as u32,
+            len: len as u16,
+            dir: match (along_x, if along_x { sx } else { sy } > 0) {
+                (true, true) => 0,
+                (true, false) => 1,
+                (false, true) => 2,
+                (false, false) => 3,
+            },
+        };
+        let split = [
+            (agents[top], barrier((rg.0, rs.1), false, top_len)),
+            (agents[left], barrier((rs.0, rg.1), true, left_len)),
+        ];
+        let mut cardinal = 0;
+        for (side, cells) in [(top, &top_cells), (left, &left_cells)] {
+            let mdd = self.mdd(k, agents[side]);
+            if mdd.blocked_by(self.problem.graph(), cells) {
+                cardinal += 1;
+            }
+        }
+        Some((cardinal, split))
     }
 
     /// The agent of a *target conflict* `c` at node `k`: the one already on its goal for good
@@ -937,7 +1310,7 @@ impl<'a> Search<'a> {
     /// Harabor, Stuckey, Ma, Koenig, "New techniques for pairwise symmetry breaking in
     /// multi-agent path finding", ICAPS 2020, §5), so the other agent's detours and `x`'s later
     /// arrivals are not searched one time step at a time.
-    fn split(&self, k: u32, c: &Conflict) -> [(usize, Constraint); 2] {
+    fn split(&self, k: u32, c: &Conflict) -> Split {
         let t = c.t;
         if let Some(x) = self.target_holder(k, c) {
             let goal = self.problem.instance().goals[x];
@@ -975,8 +1348,15 @@ impl<'a> Search<'a> {
             }
             self.expanded += 1;
             let c = self.choose(k);
+            let split = match self.rectangle_split.take() {
+                Some(split) => {
+                    self.rectangles += 1;
+                    split
+                }
+                None => self.split(k, &c),
+            };
             let mut children = Vec::new();
-            for (i, constraint) in self.split(k, &c) {
+            for (i, constraint) in split {
                 let Child::Made(child) = self.child(k, i, constraint)? else {
                     continue;
                 };
@@ -1035,6 +1415,7 @@ impl<'a> Search<'a> {
             generated: self.nodes.len() as u64,
             lower_bound: self.lower_bound,
             pair_searches: self.pair_searches,
+            rectangles: self.rectangles,
         }
     }
 
