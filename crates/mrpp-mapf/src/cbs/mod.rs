@@ -436,6 +436,15 @@ impl Node {
     fn f_hat(&self) -> f64 {
         self.cost as f64 + self.h_hat
     }
+
+    /// Frees what only an open node needs (its paths, bounds, conflicts and MDDs); its
+    /// constraint and parent link stay, for its descendants' constraint chains.
+    fn release(&mut self) {
+        self.paths = Vec::new();
+        self.lbs = Vec::new();
+        self.conflicts = Vec::new();
+        self.mdds = Vec::new();
+    }
 }
 
 /// One run's state.
@@ -1498,7 +1507,9 @@ impl<'a> Search<'a> {
                 if self.settings.heuristic != Heuristic::None && !self.settings.explicit_estimation
                 {
                     let Some(h) = self.cover_heuristic(id)? else {
-                        // No plan below this node: it is never opened.
+                        // No plan below this node: it is never opened, so it keeps nothing
+                        // but its place in the tree.
+                        self.nodes[id as usize].release();
                         continue;
                     };
                     // Path-max: what the parent's heuristic proved still holds below it, less
@@ -1513,11 +1524,7 @@ impl<'a> Search<'a> {
             // (their own paths, bounds, conflicts and shared MDDs); only its constraint and
             // parent link stay, for its descendants' constraint chains. This halves the memory of
             // a long search (as many expanded nodes as open ones).
-            let node = &mut self.nodes[k as usize];
-            node.paths = Vec::new();
-            node.lbs = Vec::new();
-            node.conflicts = Vec::new();
-            node.mdds = Vec::new();
+            self.nodes[k as usize].release();
         }
         Err(Unsolved::GaveUp(
             "every constraint set was refuted: the instance has no solution".into(),
