@@ -35,7 +35,7 @@
 //! (by the distances, ignoring traffic) bids too, from that errand, its cost raised by the steps
 //! it still needs; a task it wins is left free this step (the League gives a robot one task at a
 //! time). It bids only for tasks left over beyond one per robot that can take one now, so no such
-//! robot goes without. In the congestion-free reference over 1,000 steps
+//! robot goes without, and a robot left without a task it can reach takes one a bidder won. In the congestion-free reference over 1,000 steps
 //! ([`crate::bound`]) it changed little: `sortation_large_2000` 8,122 -> 8,182 at `L` = 25
 //! (+0.7%), `paris_1_256_250` 1,033 -> 1,037, and 993 at `L` = 100 (docs/performance.md).
 //!
@@ -204,7 +204,14 @@ fn matching(
     // Robots finishing soon bid too (rows after the real ones), no more of them than there are
     // tasks left over, so that every real robot can still be matched.
     let real = agents.len();
-    let soon = finishing_soon(sim, dist, lookahead, tasks.len().saturating_sub(real));
+    // Within the pair cap too: the bidders add rows to the cost table.
+    let room = (REASSIGN_MAX_PAIRS / tasks.len()).saturating_sub(real);
+    let soon = finishing_soon(
+        sim,
+        dist,
+        lookahead,
+        tasks.len().saturating_sub(real).min(room),
+    );
     // Every pair's cost, task-major, capped at u16::MAX - 1 (u16::MAX: unreachable). When
     // the deadline passes, the tasks costed so far (the first revealed) are matched.
     let na = real + soon.len();
@@ -248,12 +255,18 @@ fn matching(
     // when both ends are free. Pairs are sorted a cost window at a time, each window twice as
     // large as the last, so that only the cheap pairs are ever sorted.
     let mut agent_done = vec![false; na];
+    // When the deadline cut the tasks, only as many bidders as tasks left over take part.
+    let bidders = nt.saturating_sub(real).min(na - real);
+    for done in &mut agent_done[real + bidders..] {
+        *done = true;
+    }
     let mut task_done = vec![false; nt];
+    let mut won_by_bidder: Vec<usize> = Vec::new();
     let mut matched = 0;
     let mut window_pairs = 8 * na.max(nt);
     let mut lo = 0usize;
     let mut pairs: Vec<u64> = Vec::new();
-    while matched < na.min(nt) && lo < u16::MAX as usize {
+    while matched < (real + bidders).min(nt) && lo < u16::MAX as usize {
         let mut hi = lo;
         let mut inside = 0usize;
         while hi < u16::MAX as usize && inside < window_pairs {
@@ -281,11 +294,26 @@ fn matching(
             task_done[t] = true;
             if a < real {
                 proposal[agents[a]] = Some(tasks[t]);
+            } else {
+                won_by_bidder.push(t);
             }
             matched += 1;
         }
         lo = hi;
         window_pairs *= 2;
+    }
+    // A robot that can take a task now never goes without one for a bidder: one left unmatched
+    // (every task it can reach was won) takes the cheapest it can reach of the bidders' tasks.
+    for a in (0..real).filter(|&a| !agent_done[a]) {
+        let best = won_by_bidder
+            .iter()
+            .enumerate()
+            .filter(|&(_, &t)| costs[t * na + a] != u16::MAX)
+            .min_by_key(|&(_, &t)| (costs[t * na + a], t));
+        if let Some((pos, &t)) = best {
+            proposal[agents[a]] = Some(tasks[t]);
+            won_by_bidder.swap_remove(pos);
+        }
     }
     Some(proposal)
 }
@@ -443,8 +471,29 @@ fn hungarian(
     for &i in &agents {
         proposal[i] = None;
     }
+    let mut assigned: Vec<Option<usize>> = vec![None; rows];
     for (a, t) in pairs {
-        if a < real {
+        assigned[a] = Some(t);
+    }
+    // A robot that can take a task now never goes without a reachable one for a bidder: one
+    // given an unreachable task (cost FAR) swaps with the bidder whose task it can reach at the
+    // least cost.
+    let cost_at = |a: usize, t: usize| matrix[(a, t)];
+    for a in 0..real {
+        if assigned[a].is_some_and(|t| cost_at(a, t) < FAR) {
+            continue;
+        }
+        let swap = (real..rows)
+            .filter_map(|b| assigned[b].map(|t| (b, t)))
+            .filter(|&(_, t)| cost_at(a, t) < FAR)
+            .min_by_key(|&(b, t)| (cost_at(a, t), b));
+        if let Some((b, t)) = swap {
+            assigned[b] = assigned[a];
+            assigned[a] = Some(t);
+        }
+    }
+    for (a, t) in assigned.into_iter().enumerate().take(real) {
+        if let Some(t) = t {
             proposal[agents[a]] = Some(tasks[t]);
         }
     }
@@ -635,6 +684,45 @@ mod tests {
                 expected,
                 "{kind:?} with a margin of {margin}"
             );
+        }
+    }
+
+    /// A bidder never takes the only task a free robot can reach: on a corridor cut in two by a
+    /// wall, robot 0 is one step from ending its task on cell 4 and robot 1 at cell 6 is free;
+    /// the open tasks are at 4 (1 step for robot 0's bid, 2 for robot 1) and beyond the wall.
+    /// The bidder would win the task at 4 and leave robot 1 nothing it can reach; robot 1 gets
+    /// it, at every look-ahead, with both schedulers.
+    #[test]
+    fn a_bidder_never_takes_the_only_task_a_free_robot_can_reach() {
+        let mut row = vec![true; 16];
+        row[7] = false;
+        let map = GridMap::from_free_rows(&[row]);
+        // Vertices 0..=6 are cells 0..=6, vertices 7..=14 cells 8..=15.
+        let problem = test_problem(
+            map,
+            vec![3, 6],
+            vec![vec![3, 4], vec![4, 4], vec![10, 10]],
+            1.5,
+            ActionModel::Mapf,
+        );
+        let mut sim = Simulation::new(&problem);
+        sim.apply_schedule(&[Some(0), None]);
+        sim.complete_and_reveal();
+        assert_eq!(sim.tasks[0].done, 1);
+        let mut dist = Distances::new(15, 1 << 20);
+        let far = Deadline::after(Duration::from_secs(60));
+        for kind in [SchedulerKind::Hungarian, SchedulerKind::Matching] {
+            for lookahead in [0, 1, 10] {
+                let scheduler = Scheduler {
+                    lookahead,
+                    ..Scheduler::new(kind)
+                };
+                assert_eq!(
+                    scheduler.propose(&sim, &mut dist, far),
+                    vec![Some(0), Some(1)],
+                    "{kind:?} with a look-ahead of {lookahead}"
+                );
+            }
         }
     }
 

@@ -99,7 +99,11 @@ impl Mdd {
         {
             return true;
         }
-        let hit = |v: VertexId, t: usize| cells.iter().any(|&(w, s)| w == v && s as usize == t);
+        // Both lookups by binary search: `cells` sorted by (time, vertex) here, each `reach`
+        // sorted as its level is.
+        let mut blocked: Vec<(u32, VertexId)> = cells.iter().map(|&(v, t)| (t, v)).collect();
+        blocked.sort_unstable();
+        let hit = |v: VertexId, t: usize| blocked.binary_search(&(t as u32, v)).is_ok();
         let mut reach: Vec<VertexId> = self.levels[0]
             .iter()
             .copied()
@@ -109,7 +113,12 @@ impl Mdd {
             reach = self.levels[t]
                 .iter()
                 .copied()
-                .filter(|&v| !hit(v, t) && reach.iter().any(|&u| u == v || graph.has_edge(u, v)))
+                .filter(|&v| {
+                    !hit(v, t)
+                        && std::iter::once(&v)
+                            .chain(graph.neighbors(v))
+                            .any(|u| reach.binary_search(u).is_ok())
+                })
                 .collect();
             if reach.is_empty() {
                 return true;

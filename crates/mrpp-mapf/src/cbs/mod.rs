@@ -1095,6 +1095,9 @@ impl<'a> Search<'a> {
     /// raises, and the split: a barrier on each agent. `None` when the conflict is not a
     /// rectangle conflict by the conditions below.
     ///
+    /// `x` and `y` are the grid coordinates of [`mrpp_core::Graph::coord`]; "top", "row" and
+    /// "column" below name the sides of the picture with `x` down and `y` across.
+    ///
     /// Around the conflict at `c0`, `t0`, each agent's path is followed back and forth while it
     /// moves without waiting and without turning back on either axis; turned so that both move
     /// towards `+x` and `+y`, the segments run from `s_i` to `g_i`, and the rectangle `R` runs
