@@ -57,6 +57,12 @@ pub struct Inputs {
     /// Lifelong: the horizon in steps (default 1000).
     #[arg(long, value_parser = crate::output::parse_count)]
     pub steps: Option<usize>,
+    /// Lifelong `info` with --steps: also the congestion-free reference under this scheduler,
+    /// given as the lifelong planners' scheduler options, e.g.
+    /// `scheduler=hungarian,lookahead=25` (scheduler, hungarian_max, chain_weight,
+    /// reassign_margin, lookahead; `mrpp planners --family lifelong`).
+    #[arg(long, requires = "steps")]
+    pub reference_scheduler: Option<String>,
     /// Lifelong: planning time per step in seconds (default 1, the League's); a planner that
     /// runs over loses one step per full budget, as in the League's start kit.
     #[arg(long, allow_negative_numbers = true)]

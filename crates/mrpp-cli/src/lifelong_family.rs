@@ -569,14 +569,36 @@ fn info(inputs: &Inputs) -> Result<u8, Fail> {
             chain_weight: 0.0,
             ..Scheduler::new(SchedulerKind::Hungarian)
         };
-        for (scheduler, name) in [
-            (Scheduler::new(SchedulerKind::Greedy), "greedy scheduler"),
+        let mut variants = vec![
+            (
+                Scheduler::new(SchedulerKind::Greedy),
+                "greedy scheduler".to_string(),
+            ),
             (
                 Scheduler::new(SchedulerKind::Hungarian),
-                "hungarian scheduler",
+                "hungarian scheduler".to_string(),
             ),
-            (pickup_only, "hungarian scheduler with -p chain_weight=0"),
-        ] {
+            (
+                pickup_only,
+                "hungarian scheduler with -p chain_weight=0".to_string(),
+            ),
+        ];
+        if let Some(spec) = &inputs.reference_scheduler {
+            let mut given = Vec::new();
+            for part in spec.split(',').filter(|p| !p.trim().is_empty()) {
+                let Some((k, v)) = part.split_once('=') else {
+                    return Err(Fail(format!(
+                        "--reference-scheduler: `{part}` is not KEY=VALUE (e.g. scheduler=hungarian,lookahead=25)"
+                    )));
+                };
+                given.push((k.trim().to_string(), v.trim().to_string()));
+            }
+            let scheduler = mrpp_lifelong::runner::scheduler_from(&given)
+                .map_err(|e| Fail(format!("--reference-scheduler: {e}")))?;
+            variants.push((scheduler, format!("scheduler {spec}")));
+        }
+        for (scheduler, name) in variants {
+            let name = name.as_str();
             let live = crate::progress::Live::start(name);
             let ctx = mrpp_core::Ctx {
                 seed: 0,

@@ -688,3 +688,62 @@ fn info_gives_the_congestion_free_reference_over_a_horizon() {
         assert!(tasks > 0, "{line}");
     }
 }
+
+/// `--reference-scheduler` adds the reference under a scheduler given as the planners' options
+/// (with the kit's scheduler it equals the `greedy` line); a malformed or unknown option is an
+/// error naming the flag, exit 1.
+#[test]
+fn info_takes_the_reference_under_a_given_scheduler() {
+    let tasks_of = |stdout: &str, name: &str| -> usize {
+        let line = stdout
+            .lines()
+            .find(|l| l.contains(&format!("congestion-free reference ({name},")))
+            .unwrap_or_else(|| panic!("{stdout}"));
+        line.split(": ")
+            .nth(1)
+            .and_then(|r| r.split(' ').next())
+            .and_then(|n| n.parse().ok())
+            .unwrap_or_else(|| panic!("{line}"))
+    };
+    let (code, stdout, err) = mrpp(&[
+        "info",
+        "--lorr",
+        MAZE,
+        "--lifelong",
+        "--steps",
+        "150",
+        "--reference-scheduler",
+        "scheduler=greedy",
+    ]);
+    assert_eq!(code, Some(0), "{stdout}{err}");
+    assert_eq!(
+        tasks_of(&stdout, "scheduler scheduler=greedy"),
+        tasks_of(&stdout, "greedy scheduler")
+    );
+    let (code, stdout, err) = mrpp(&[
+        "info",
+        "--lorr",
+        MAZE,
+        "--lifelong",
+        "--steps",
+        "150",
+        "--reference-scheduler",
+        "scheduler=hungarian,lookahead=10",
+    ]);
+    assert_eq!(code, Some(0), "{stdout}{err}");
+    assert!(tasks_of(&stdout, "scheduler scheduler=hungarian,lookahead=10") > 0);
+    for bad in ["lookahead", "window=3", "lookahead=5000"] {
+        let (code, stdout, err) = mrpp(&[
+            "info",
+            "--lorr",
+            MAZE,
+            "--lifelong",
+            "--steps",
+            "150",
+            "--reference-scheduler",
+            bad,
+        ]);
+        assert_eq!(code, Some(1), "{bad}: {stdout}{err}");
+        assert!(err.contains("--reference-scheduler"), "{bad}: {err}");
+    }
+}

@@ -151,9 +151,33 @@ pub const LNS_ENTRY: PlannerEntry<LifelongProblem> = PlannerEntry {
     build: |p| Ok(Box::new(build(LNS_ENTRY.name, p)?)),
 };
 
-/// The planner of either entry from its checked parameters.
-fn build(name: &'static str, p: &mrpp_core::Params) -> mrpp_core::Result<LifelongPibt> {
-    let scheduler = Scheduler {
+/// The `-p` options of the lifelong planners that make their scheduler.
+pub const SCHEDULER_PARAMS: [&str; 5] = [
+    "scheduler",
+    "hungarian_max",
+    "chain_weight",
+    "reassign_margin",
+    "lookahead",
+];
+
+/// The scheduler the lifelong planners build from `given` `-p` options, only those of
+/// [`SCHEDULER_PARAMS`] (others are refused), with `lifelong-pibt`'s defaults (`greedy`); what
+/// `mrpp info --lorr P.json --lifelong --steps N --reference-scheduler ...` takes its congestion-free
+/// reference with.
+///
+/// # Errors
+/// An unknown option or a value out of its range.
+pub fn scheduler_from(given: &[(String, String)]) -> mrpp_core::Result<Scheduler> {
+    let declared: Vec<Param> = PIBT_PARAMS
+        .iter()
+        .filter(|p| SCHEDULER_PARAMS.contains(&p.name))
+        .copied()
+        .collect();
+    scheduler_of(&mrpp_core::Params::resolve("scheduler", &declared, given)?)
+}
+
+fn scheduler_of(p: &mrpp_core::Params) -> mrpp_core::Result<Scheduler> {
+    Ok(Scheduler {
         kind: match p.choice("scheduler", &["greedy", "hungarian", "matching"])? {
             0 => SchedulerKind::Greedy,
             1 => SchedulerKind::Hungarian,
@@ -163,10 +187,14 @@ fn build(name: &'static str, p: &mrpp_core::Params) -> mrpp_core::Result<Lifelon
         chain_weight: p.get_in("chain_weight", 0.0..=10.0)?,
         reassign_margin: p.get_in("reassign_margin", 0..=1000)?,
         lookahead: p.get_in("lookahead", 0..=1000)?,
-    };
+    })
+}
+
+/// The planner of either entry from its checked parameters.
+fn build(name: &'static str, p: &mrpp_core::Params) -> mrpp_core::Result<LifelongPibt> {
     Ok(LifelongPibt {
         name,
-        scheduler,
+        scheduler: scheduler_of(p)?,
         guidance: match p.choice("guidance", &["auto", "none", "traffic-flow"])? {
             0 => Guidance::Auto,
             1 => Guidance::None,
