@@ -675,18 +675,21 @@ fn info_gives_the_congestion_free_reference_over_a_horizon() {
         "hungarian scheduler",
         "hungarian scheduler with -p chain_weight=0",
     ] {
-        let line = stdout
-            .lines()
-            .find(|l| l.contains(&format!("congestion-free reference ({scheduler},")))
-            .unwrap_or_else(|| panic!("{stdout}"));
-        let tasks: usize = line
-            .split(": ")
-            .nth(1)
-            .and_then(|r| r.split(' ').next())
-            .and_then(|n| n.parse().ok())
-            .unwrap_or_else(|| panic!("{line}"));
-        assert!(tasks > 0, "{line}");
+        assert!(reference_tasks(&stdout, scheduler) > 0, "{stdout}");
     }
+}
+
+/// The tasks of `info`'s congestion-free reference line for `name`.
+fn reference_tasks(stdout: &str, name: &str) -> usize {
+    let line = stdout
+        .lines()
+        .find(|l| l.contains(&format!("congestion-free reference ({name},")))
+        .unwrap_or_else(|| panic!("{stdout}"));
+    line.split(": ")
+        .nth(1)
+        .and_then(|r| r.split(' ').next())
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("{line}"))
 }
 
 /// `--reference-scheduler` adds the reference under a scheduler given as the planners' options
@@ -694,46 +697,8 @@ fn info_gives_the_congestion_free_reference_over_a_horizon() {
 /// error naming the flag, exit 1.
 #[test]
 fn info_takes_the_reference_under_a_given_scheduler() {
-    let tasks_of = |stdout: &str, name: &str| -> usize {
-        let line = stdout
-            .lines()
-            .find(|l| l.contains(&format!("congestion-free reference ({name},")))
-            .unwrap_or_else(|| panic!("{stdout}"));
-        line.split(": ")
-            .nth(1)
-            .and_then(|r| r.split(' ').next())
-            .and_then(|n| n.parse().ok())
-            .unwrap_or_else(|| panic!("{line}"))
-    };
-    let (code, stdout, err) = mrpp(&[
-        "info",
-        "--lorr",
-        MAZE,
-        "--lifelong",
-        "--steps",
-        "150",
-        "--reference-scheduler",
-        "scheduler=greedy",
-    ]);
-    assert_eq!(code, Some(0), "{stdout}{err}");
-    assert_eq!(
-        tasks_of(&stdout, "scheduler scheduler=greedy"),
-        tasks_of(&stdout, "greedy scheduler")
-    );
-    let (code, stdout, err) = mrpp(&[
-        "info",
-        "--lorr",
-        MAZE,
-        "--lifelong",
-        "--steps",
-        "150",
-        "--reference-scheduler",
-        "scheduler=hungarian,lookahead=10",
-    ]);
-    assert_eq!(code, Some(0), "{stdout}{err}");
-    assert!(tasks_of(&stdout, "scheduler scheduler=hungarian,lookahead=10") > 0);
-    for bad in ["lookahead", "window=3", "lookahead=5000"] {
-        let (code, stdout, err) = mrpp(&[
+    let info = |spec: &str| {
+        mrpp(&[
             "info",
             "--lorr",
             MAZE,
@@ -741,8 +706,20 @@ fn info_takes_the_reference_under_a_given_scheduler() {
             "--steps",
             "150",
             "--reference-scheduler",
-            bad,
-        ]);
+            spec,
+        ])
+    };
+    let (code, stdout, err) = info("scheduler=greedy");
+    assert_eq!(code, Some(0), "{stdout}{err}");
+    assert_eq!(
+        reference_tasks(&stdout, "scheduler scheduler=greedy"),
+        reference_tasks(&stdout, "greedy scheduler")
+    );
+    let (code, stdout, err) = info("scheduler=hungarian,lookahead=10");
+    assert_eq!(code, Some(0), "{stdout}{err}");
+    assert!(reference_tasks(&stdout, "scheduler scheduler=hungarian,lookahead=10") > 0);
+    for bad in ["lookahead", "window=3", "lookahead=5000"] {
+        let (code, stdout, err) = info(bad);
         assert_eq!(code, Some(1), "{bad}: {stdout}{err}");
         assert!(err.contains("--reference-scheduler"), "{bad}: {err}");
     }

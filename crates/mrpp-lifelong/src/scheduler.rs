@@ -35,8 +35,8 @@
 //! (by the distances, ignoring traffic) bids too, from that errand, its cost raised by the steps
 //! it still needs; a task it wins is left free this step (the League gives a robot one task at a
 //! time). It bids only for tasks left over beyond one per robot that can take one now, so no such
-//! robot goes without, and a robot left without a task it can reach takes one a bidder won. In the congestion-free reference over 1,000 steps
-//! ([`crate::bound`]) it changed little: `sortation_large_2000` 8,122 -> 8,182 at `L` = 25
+//! robot goes without, and a robot left without a task it can reach takes one a bidder won. In
+//! the congestion-free reference over 1,000 steps ([`crate::bound`]) it changed little: `sortation_large_2000` 8,122 -> 8,182 at `L` = 25
 //! (+0.7%), `paris_1_256_250` 1,033 -> 1,037, and 993 at `L` = 100 (docs/performance.md).
 //!
 //! **The cost** of giving task `k` to robot `r` is `d(r, e1) + w x (d(e1, e2) + d(e2, e3) + ...)`
@@ -687,6 +687,39 @@ mod tests {
         }
     }
 
+    /// Proposals on a one-row map (`row` of free cells) where robot 0 stands on the first
+    /// errand of task 0 (done at once) and robot 1 is free, for each scheduler and look-ahead:
+    /// `expect(lookahead)` is robot 1's task.
+    fn check_lookahead(
+        row: Vec<bool>,
+        starts: Vec<VertexId>,
+        tasks: Vec<Vec<VertexId>>,
+        expect: impl Fn(u32) -> usize,
+    ) {
+        let map = GridMap::from_free_rows(&[row]);
+        let n = map.graph().num_vertices();
+        let problem = test_problem(map, starts, tasks, 1.5, ActionModel::Mapf);
+        let mut sim = Simulation::new(&problem);
+        sim.apply_schedule(&[Some(0), None]);
+        sim.complete_and_reveal();
+        assert_eq!(sim.tasks[0].done, 1, "robot 0 did its first errand");
+        let mut dist = Distances::new(n, 1 << 20);
+        let far = Deadline::after(Duration::from_secs(60));
+        for kind in [SchedulerKind::Hungarian, SchedulerKind::Matching] {
+            for lookahead in [0, 1, 10, 20] {
+                let scheduler = Scheduler {
+                    lookahead,
+                    ..Scheduler::new(kind)
+                };
+                assert_eq!(
+                    scheduler.propose(&sim, &mut dist, far),
+                    vec![Some(0), Some(expect(lookahead))],
+                    "{kind:?} with a look-ahead of {lookahead}"
+                );
+            }
+        }
+    }
+
     /// A bidder never takes the only task a free robot can reach: on a corridor cut in two by a
     /// wall, robot 0 is one step from ending its task on cell 4 and robot 1 at cell 6 is free;
     /// the open tasks are at 4 (1 step for robot 0's bid, 2 for robot 1) and beyond the wall.
@@ -696,70 +729,27 @@ mod tests {
     fn a_bidder_never_takes_the_only_task_a_free_robot_can_reach() {
         let mut row = vec![true; 16];
         row[7] = false;
-        let map = GridMap::from_free_rows(&[row]);
         // Vertices 0..=6 are cells 0..=6, vertices 7..=14 cells 8..=15.
-        let problem = test_problem(
-            map,
+        check_lookahead(
+            row,
             vec![3, 6],
             vec![vec![3, 4], vec![4, 4], vec![10, 10]],
-            1.5,
-            ActionModel::Mapf,
+            |_| 1,
         );
-        let mut sim = Simulation::new(&problem);
-        sim.apply_schedule(&[Some(0), None]);
-        sim.complete_and_reveal();
-        assert_eq!(sim.tasks[0].done, 1);
-        let mut dist = Distances::new(15, 1 << 20);
-        let far = Deadline::after(Duration::from_secs(60));
-        for kind in [SchedulerKind::Hungarian, SchedulerKind::Matching] {
-            for lookahead in [0, 1, 10] {
-                let scheduler = Scheduler {
-                    lookahead,
-                    ..Scheduler::new(kind)
-                };
-                assert_eq!(
-                    scheduler.propose(&sim, &mut dist, far),
-                    vec![Some(0), Some(1)],
-                    "{kind:?} with a look-ahead of {lookahead}"
-                );
-            }
-        }
     }
 
     /// With a look-ahead, a task is left for a robot about to finish beside it: on a corridor,
     /// robot 0 stands on the first errand of its task (12, 13), one step from its end at 13;
     /// robot 1 at 8 is free, the open tasks are at 13 (5 steps from it) and 0 (8 steps). Alone,
     /// robot 1 takes the task at 13; with a look-ahead of 1 or more robot 0 bids for it from 13
-    /// (1 + 0 steps) and robot 1 takes the one at 0 (8 + 1 < 5 + 14). Below robot 0's one step
-    /// left it does not bid.
+    /// (1 + 0 steps) and robot 1 takes the one at 0 (8 + 1 < 5 + 14).
     #[test]
     fn a_lookahead_leaves_a_task_for_a_robot_about_to_finish_beside_it() {
-        let map = GridMap::from_free_rows(&[vec![true; 16]]);
-        let problem = test_problem(
-            map,
+        check_lookahead(
+            vec![true; 16],
             vec![12, 8],
             vec![vec![12, 13], vec![13, 13], vec![0, 0]],
-            1.5,
-            ActionModel::Mapf,
+            |lookahead| if lookahead == 0 { 1 } else { 2 },
         );
-        let mut sim = Simulation::new(&problem);
-        sim.apply_schedule(&[Some(0), None]);
-        sim.complete_and_reveal();
-        assert_eq!(sim.tasks[0].done, 1, "robot 0 did its first errand");
-        let mut dist = Distances::new(16, 1 << 20);
-        let far = Deadline::after(Duration::from_secs(60));
-        for kind in [SchedulerKind::Hungarian, SchedulerKind::Matching] {
-            for (lookahead, task) in [(0, 1), (1, 2), (20, 2)] {
-                let scheduler = Scheduler {
-                    lookahead,
-                    ..Scheduler::new(kind)
-                };
-                assert_eq!(
-                    scheduler.propose(&sim, &mut dist, far),
-                    vec![Some(0), Some(task)],
-                    "{kind:?} with a look-ahead of {lookahead}"
-                );
-            }
-        }
     }
 }

@@ -11,6 +11,7 @@ use std::collections::BTreeSet;
 
 use rustc_hash::{FxHashMap, FxHashSet};
 
+use mrpp_core::mapf::search::distance::{UNREACHABLE, bfs_distances_avoiding};
 use mrpp_core::{Deadline, Graph, VertexId};
 
 /// A CBS constraint on one agent.
@@ -388,27 +389,13 @@ fn blocked_distances(q: &Query) -> Blocked {
     Some((from, d))
 }
 
-/// Breadth-first distances to `q.goal` that never enter a vertex of `walls` (sorted).
+/// Breadth-first distances to `q.goal` that never enter a vertex of `walls` (sorted; all
+/// unreachable when the goal is one).
 fn distances_around(q: &Query, walls: &[VertexId]) -> Vec<u32> {
-    let n = q.graph.num_vertices();
-    let mut wall = vec![false; n];
-    for &v in walls {
-        wall[v as usize] = true;
+    if walls.binary_search(&q.goal).is_ok() {
+        return vec![UNREACHABLE; q.graph.num_vertices()];
     }
-    let mut d = vec![u32::MAX; n];
-    if !wall[q.goal as usize] {
-        d[q.goal as usize] = 0;
-        let mut queue = std::collections::VecDeque::from([q.goal]);
-        while let Some(u) = queue.pop_front() {
-            for &v in q.graph.neighbors(u) {
-                if !wall[v as usize] && d[v as usize] == u32::MAX {
-                    d[v as usize] = d[u as usize] + 1;
-                    queue.push_back(v);
-                }
-            }
-        }
-    }
-    d
+    bfs_distances_avoiding(q.graph, q.goal, |v| walls.binary_search(&v).is_ok())
 }
 
 /// Whether a state can still reach the next landmark in time (Manhattan distance: a lower bound

@@ -72,7 +72,7 @@
 //! on the agents' arrival times (distances from their starts) prove that any two paths on both
 //! barriers collide ([`Search::rectangle`] has the conditions and the argument). On MovingAI
 //! maps those conditions seldom hold (paths that bend around obstacles can reach part of the
-//! rectangle early): on den520d with 100 agents 312 of 13,449 conflicts tried passed, none
+//! rectangle early): on den520d with 100 agents 312 of about 13,000 conflicts tried passed, none
 //! cardinal, and on random-32-32-20 it did not raise the proven bound within 20 s
 //! (docs/performance.md), hence off by default. Corridor reasoning (Li et al., ICAPS 2020) is
 //! not implemented: on den520d no split conflict lay in a corridor.
@@ -98,6 +98,7 @@ use std::rc::Rc;
 use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
+use crate::GridMap;
 use low_level::{
     AvoidanceTable, BlockedCache, Constraint, Constraints, Found, NoPath, Query, focal_search,
 };
@@ -112,6 +113,13 @@ use mrpp_core::{
 pub const CBS_NAME: &str = "cbs";
 /// Registry name of EECBS.
 pub const EECBS_NAME: &str = "eecbs";
+
+/// CBS's and EECBS's `-p rectangle` ([`Settings::rectangle`]).
+const RECTANGLE_PARAM: Param = Param {
+    name: "rectangle",
+    default: "false",
+    doc: "rectangle reasoning on grids: when no conflict is cardinal, a conflict of two agents crossing a rectangle on time splits on barriers, one per agent, instead of one cell (Li et al., AAAI 2019), under arrival-time conditions that keep every conflict-free pair of paths (cbs/mod.rs, `Search::rectangle`); used with MDD prioritisation. Off by default: it fired on few conflicts of MovingAI maps and did not raise the proven bound (docs/performance.md)",
+};
 
 /// CBS in the planner registry.
 pub const CBS_ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
@@ -143,11 +151,7 @@ pub const CBS_ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             default: "true",
             doc: "target reasoning: split a conflict on an agent's goal after it arrived by that agent's cost, at most or more than the conflict's time (Li et al., ICAPS 2020)",
         },
-        Param {
-            name: "rectangle",
-            default: "false",
-            doc: "rectangle reasoning on grids: when no conflict is cardinal, a conflict of two agents crossing a rectangle on time splits on barriers, one per agent, instead of one cell (Li et al., AAAI 2019), under arrival-time conditions that keep every conflict-free pair of paths (cbs/mod.rs, `Search::rectangle`); used with MDD prioritisation. Off by default: it fired on few conflicts of MovingAI maps and did not raise the proven bound (docs/performance.md)",
-        },
+        RECTANGLE_PARAM,
     ],
     build: |p| {
         Ok(Box::new(Cbs::new(Settings {
@@ -193,11 +197,7 @@ pub const EECBS_ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             default: "true",
             doc: "target reasoning: split a conflict on an agent's goal after it arrived by that agent's cost, at most or more than the conflict's time (Li et al., ICAPS 2020)",
         },
-        Param {
-            name: "rectangle",
-            default: "false",
-            doc: "rectangle reasoning on grids: when no conflict is cardinal, a conflict of two agents crossing a rectangle on time splits on barriers, one per agent, instead of one cell (Li et al., AAAI 2019), under arrival-time conditions that keep every conflict-free pair of paths (cbs/mod.rs, `Search::rectangle`); used with MDD prioritisation. Off by default: it fired on few conflicts of MovingAI maps and did not raise the proven bound (docs/performance.md)",
-        },
+        RECTANGLE_PARAM,
     ],
     build: |p| {
         let w: f64 = p.get_in("w", 1.0..=1000.0)?;
@@ -273,6 +273,8 @@ pub struct Report {
     pub pair_searches: u64,
     /// Rectangle reasoning: conflicts split on barriers.
     pub rectangles: u64,
+    /// Rectangle reasoning: conflicts tried as rectangles.
+    pub rectangle_tries: u64,
 }
 
 impl Cbs {
@@ -356,6 +358,7 @@ impl Planner<MapfProblem> for Cbs {
             }
             if self.settings.rectangle && self.settings.prioritize {
                 m.insert("rectangles".into(), r.rectangles.into());
+                m.insert("rectangle_tries".into(), r.rectangle_tries.into());
             }
         }
         m
@@ -470,14 +473,14 @@ struct Search<'a> {
     pair_searches: u64,
     /// Conflicts split on rectangle barriers.
     rectangles: u64,
+    /// Conflicts tried as rectangles.
+    rectangle_tries: u64,
     /// The best lower bound on the optimal sum of costs proven so far.
     lower_bound: u64,
     /// Low-level distance tables around walls, shared between calls.
     blocked: std::cell::RefCell<BlockedCache>,
-    /// Rectangle reasoning: the grid's vertex at each cell (built on first use; `None` before,
-    /// or on graphs without coordinates).
-    grid: Option<GridIndex>,
-    grid_built: bool,
+    /// Rectangle reasoning: the graph's grid ([`grid_of`], built on first use).
+    grid: std::cell::OnceCell<Option<GridMap>>,
     /// Rectangle reasoning: distances from each agent's start (built on first use, within
     /// [`START_TABLE_BYTES`] in all).
     start_dist: Vec<Option<Rc<Vec<u32>>>>,
@@ -496,41 +499,31 @@ const START_TABLE_BYTES: usize = 512 << 20;
 /// Most non-cardinal conflicts of a node tried as rectangles when it has no cardinal one.
 const RECTANGLE_TRIES: usize = 64;
 
-/// A grid graph's vertex at each cell: `cells[y * width + x]` (`u32::MAX`: none).
-struct GridIndex {
-    width: u32,
-    height: u32,
-    cells: Vec<VertexId>,
-}
-
-impl GridIndex {
-    fn of(graph: &mrpp_core::Graph) -> Option<GridIndex> {
-        let mut width = 0;
-        let mut height = 0;
-        for v in 0..graph.num_vertices() as VertexId {
-            let (x, y) = graph.coord(v)?;
-            width = width.max(x + 1);
-            height = height.max(y + 1);
-        }
-        let mut cells = vec![u32::MAX; width as usize * height as usize];
-        for v in 0..graph.num_vertices() as VertexId {
-            let (x, y) = graph.coord(v)?;
-            cells[(y * width + x) as usize] = v;
-        }
-        Some(GridIndex {
-            width,
-            height,
-            cells,
-        })
+/// The grid of a graph whose vertices carry cells: the [`GridMap`] of those cells, when it
+/// numbers them as the graph does (so [`GridMap::vertex_at`] answers for the graph); `None` for
+/// graphs not made from a grid.
+fn grid_of(graph: &mrpp_core::Graph) -> Option<GridMap> {
+    let cells: Vec<(u32, u32)> = (0..graph.num_vertices() as VertexId)
+        .map(|v| graph.coord(v))
+        .collect::<Option<_>>()?;
+    let width = cells.iter().map(|c| c.0 + 1).max()? as usize;
+    let height = cells.iter().map(|c| c.1 + 1).max()? as usize;
+    let mut rows = vec![vec![false; width]; height];
+    for &(x, y) in &cells {
+        rows[y as usize][x as usize] = true;
     }
-
-    fn at(&self, x: i64, y: i64) -> Option<VertexId> {
-        if x < 0 || y < 0 || x >= i64::from(self.width) || y >= i64::from(self.height) {
-            return None;
-        }
-        let v = self.cells[(y * i64::from(self.width) + x) as usize];
-        (v != u32::MAX).then_some(v)
-    }
+    let map = GridMap::from_free_rows(&rows);
+    let sorted = |n: &[VertexId]| {
+        let mut n = n.to_vec();
+        n.sort_unstable();
+        n
+    };
+    let same = cells.iter().enumerate().all(|(v, &(x, y))| {
+        let v = v as VertexId;
+        map.vertex_at(i64::from(x), i64::from(y)) == Some(v)
+            && sorted(map.graph().neighbors(v)) == sorted(graph.neighbors(v))
+    });
+    same.then_some(map)
 }
 
 /// Agents `a < b` and their sorted constraint lists.
@@ -592,10 +585,10 @@ impl<'a> Search<'a> {
             pair_memo: FxHashMap::default(),
             pair_searches: 0,
             rectangles: 0,
+            rectangle_tries: 0,
             lower_bound: 0,
             blocked: Default::default(),
-            grid: None,
-            grid_built: false,
+            grid: std::cell::OnceCell::new(),
             start_dist: vec![None; inst.num_agents()],
             start_dist_bytes: 0,
             rectangle_split: None,
@@ -628,13 +621,13 @@ impl<'a> Search<'a> {
         if !matches!(c, Constraint::Barrier { .. }) {
             return vec![c];
         }
-        let Some(grid) = &self.grid else {
+        let Some(grid) = self.grid.get().and_then(Option::as_ref) else {
             return Vec::new();
         };
         c.barrier_cells()
             .into_iter()
             .filter_map(|(x, y, t)| {
-                grid.at(i64::from(x), i64::from(y))
+                grid.vertex_at(i64::from(x), i64::from(y))
                     .map(|v| Constraint::Vertex { v, t })
             })
             .collect()
@@ -1124,12 +1117,9 @@ impl<'a> Search<'a> {
         let Kind::Vertex(v0) = c.kind else {
             return None;
         };
-        if !self.grid_built {
-            self.grid = GridIndex::of(self.problem.graph());
-            self.grid_built = true;
-        }
-        self.grid.as_ref()?;
+        self.rectangle_tries += 1;
         let graph = self.problem.graph();
+        self.grid.get_or_init(|| grid_of(graph)).as_ref()?;
         let t0 = c.t as usize;
         let agents = [c.a, c.b];
         let paths = [
@@ -1208,13 +1198,52 @@ impl<'a> Search<'a> {
         if kk + rs.0 + rs.1 < 0 {
             return None;
         }
+        let top_len = rg.1 - rs.1 + 1;
+        let left_len = rg.0 - rs.0 + 1;
+        if top_len > i64::from(u16::MAX) || left_len > i64::from(u16::MAX) {
+            return None;
+        }
+        let plane = |p: (i64, i64)| kk + p.0 + p.1;
+        let barrier = |from: (i64, i64), along_x: bool, len: i64| Constraint::Barrier {
+            x: (sx * from.0) as u32,
+            y: (sy * from.1) as u32,
+            t: plane(from) as u32,
+            len: len as u16,
+            dir: match (along_x, if along_x { sx } else { sy } > 0) {
+                (true, true) => 0,
+                (true, false) => 1,
+                (false, true) => 2,
+                (false, false) => 3,
+            },
+        };
+        let split = [
+            (agents[top], barrier((rg.0, rs.1), false, top_len)),
+            (agents[left], barrier((rs.0, rg.1), true, left_len)),
+        ];
+        // Each barrier's (vertex, time) cells, as the searches will take them; the split is of
+        // use only when both current paths are on their barriers (checked first: it is cheap).
+        let cells = |c: Constraint| -> Vec<(VertexId, u32)> {
+            self.vertex_form(c)
+                .into_iter()
+                .filter_map(|x| match x {
+                    Constraint::Vertex { v, t } => Some((v, t)),
+                    _ => None,
+                })
+                .collect()
+        };
+        let (top_cells, left_cells) = (cells(split[0].1), cells(split[1].1));
+        let on = |p: &[VertexId], cells: &[(VertexId, u32)]| {
+            cells.iter().any(|&(v, t)| at(p, t as usize) == v)
+        };
+        if !on(&paths[top], &top_cells) || !on(&paths[left], &left_cells) {
+            return None;
+        }
         let dists = [
             self.start_distances(agents[0])?,
             self.start_distances(agents[1])?,
         ];
-        let grid = self.grid.as_ref()?;
-        let vertex = |p: (i64, i64)| grid.at(sx * p.0, sy * p.1);
-        let plane = |p: (i64, i64)| kk + p.0 + p.1;
+        let grid = self.grid.get().and_then(Option::as_ref)?;
+        let vertex = |p: (i64, i64)| grid.vertex_at(sx * p.0, sy * p.1);
         let starts = &self.problem.instance().starts;
         let sound = |side: usize, from_top: bool| {
             let d = &dists[side];
@@ -1249,44 +1278,6 @@ impl<'a> Search<'a> {
         if !sound(top, true) || !sound(left, false) {
             return None;
         }
-        // The barriers: (vertex, time) of each cell, and the constraint.
-        let cells = |from: (i64, i64), step: (i64, i64), len: i64| -> Vec<(VertexId, u32)> {
-            (0..len)
-                .filter_map(|i| {
-                    let p = (from.0 + step.0 * i, from.1 + step.1 * i);
-                    vertex(p).map(|v| (v, plane(p) as u32))
-                })
-                .collect()
-        };
-        let top_len = rg.1 - rs.1 + 1;
-        let left_len = rg.0 - rs.0 + 1;
-        if top_len > i64::from(u16::MAX) || left_len > i64::from(u16::MAX) {
-            return None;
-        }
-        let top_cells = cells((rg.0, rs.1), (0, 1), top_len);
-        let left_cells = cells((rs.0, rg.1), (1, 0), left_len);
-        let on = |p: &[VertexId], cells: &[(VertexId, u32)]| {
-            cells.iter().any(|&(v, t)| at(p, t as usize) == v)
-        };
-        if !on(&paths[top], &top_cells) || !on(&paths[left], &left_cells) {
-            return None;
-        }
-        let barrier = |from: (i64, i64), along_x: bool, len: i64| Constraint::Barrier {
-            x: (sx * from.0) as u32,
-            y: (sy * from.1) as u32,
-            t: plane(from) as u32,
-            len: len as u16,
-            dir: match (along_x, if along_x { sx } else { sy } > 0) {
-                (true, true) => 0,
-                (true, false) => 1,
-                (false, true) => 2,
-                (false, false) => 3,
-            },
-        };
-        let split = [
-            (agents[top], barrier((rg.0, rs.1), false, top_len)),
-            (agents[left], barrier((rs.0, rg.1), true, left_len)),
-        ];
         let mut cardinal = 0;
         for (side, cells) in [(top, &top_cells), (left, &left_cells)] {
             let mdd = self.mdd(k, agents[side]);
@@ -1428,6 +1419,7 @@ impl<'a> Search<'a> {
             lower_bound: self.lower_bound,
             pair_searches: self.pair_searches,
             rectangles: self.rectangles,
+            rectangle_tries: self.rectangle_tries,
         }
     }
 
