@@ -1,7 +1,8 @@
 //! Property tests of the validator and the grid planners, on random small grids.
 //!
 //! 1. Every registered planner (plus non-default variants: H* `paper` and without completion,
-//!    WHCA* with windows 1 and 2, LaCAM* and LaCAM without PIBT's tricks, PIBT with them), called
+//!    WHCA* with windows 1 and 2, LaCAM* and LaCAM without PIBT's tricks, LaCAM and LaCAM* with
+//!    local guidance, PIBT with them), called
 //!    directly through `Planner::plan`, never returns a plan the validator rejects; a plan returned
 //!    by `solve` always validates; single-agent instances are always solved.
 //! 2. The validator catches injected conflicts with the right kind, agent pair and time step:
@@ -218,6 +219,15 @@ fn all_planners() -> Vec<(String, Box<dyn Planner<MapfProblem>>)> {
     runs.push(("whca", kv("window", "1")));
     runs.push(("whca", kv("window", "2")));
     runs.push(("lacam", kv("anytime", "true")));
+    runs.push(("lacam", kv("local_guidance", "3")));
+    runs.push((
+        "lacam",
+        vec![
+            ("anytime".to_string(), "true".to_string()),
+            ("local_guidance".to_string(), "2".to_string()),
+            ("guidance_collision_cost".to_string(), "1".to_string()),
+        ],
+    ));
     runs.push((
         "lacam",
         vec![

@@ -124,6 +124,16 @@ pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             doc: "scatter: steps a preferred path may be longer than the agent's shortest (0-1000)",
         },
         Param {
+            name: "local_guidance",
+            default: "0",
+            doc: "steps of local guidance (Arita & Okumura, AAAI 2026): before PIBT generates a configuration's successors, each agent plans a space-time path this many steps long that avoids those of the agents before it in the configuration's order, and PIBT tries its first step first; 0 = off (0-64)",
+        },
+        Param {
+            name: "guidance_collision_cost",
+            default: "4",
+            doc: "local guidance: what one collision with an earlier agent's guidance path costs, in steps (1-1000; of 1, 4, 10 and 100, 4 was the only one within 4% of the lowest sum of costs on random-32-32-20, den312d, warehouse-10-20-10-2-1 and room-64-64-8 with 400-800 agents, docs/performance.md)",
+        },
+        Param {
             name: "threads",
             default: "1",
             doc: "LaCAM* with refine: neighbourhoods the LNS repairs at once, one per thread (1-64); the result depends on this number and the seed, not on the machine's cores (docs/planners.md)",
@@ -148,7 +158,11 @@ pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             [p.choice("scatter", &["auto", "on", "off"])?];
         let scatter_margin: u32 = p.get_in("scatter_margin", 0..=1000)?;
         let threads: usize = p.get_in("threads", 1..=64)?;
+        let local_guidance: u32 = p.get_in("local_guidance", 0..=64)?;
+        let guidance_collision_cost: u32 = p.get_in("guidance_collision_cost", 1..=1000)?;
         Ok(Box::new(Lacam {
+            local_guidance,
+            guidance_collision_cost,
             anytime,
             objective,
             restart_rate,
@@ -207,6 +221,10 @@ pub struct Lacam {
     /// LaCAM* with refinement: neighbourhoods the LNS repairs at once, one per thread
     /// ([`crate::lns`]'s `steps`).
     pub threads: usize,
+    /// Steps of local guidance ([`crate::guidance`]); 0 = none.
+    pub local_guidance: u32,
+    /// Local guidance: the cost of one collision with an earlier agent's guidance path, in steps.
+    pub guidance_collision_cost: u32,
     last: Mutex<Option<Report>>,
 }
 
@@ -257,6 +275,8 @@ impl Default for Lacam {
             scatter: Scatter::Auto,
             scatter_margin: 10,
             threads: 1,
+            local_guidance: 0,
+            guidance_collision_cost: 4,
             last: Mutex::new(None),
         }
     }
@@ -373,6 +393,8 @@ struct Node {
     priorities: Box<[f32]>,
     order: Box<[u32]>,
     tree: VecDeque<Constraint>,
+    /// With local guidance: each agent's guidance, once the node generated a successor.
+    guide: Option<Box<[VertexId]>>,
     /// Next node with the same configuration hash.
     same_hash: u32,
 }
@@ -390,6 +412,7 @@ struct Search<'a> {
     goals: &'a [VertexId],
     dist: &'a GoalDistances<'a>,
     scatter: Option<&'a crate::scatter::Scatter>,
+    guidance: Option<crate::guidance::Guidance>,
     nodes: Vec<Node>,
     by_hash: FxHashMap<u64, u32>,
     occupied_now: Vec<usize>,
@@ -457,6 +480,13 @@ fn search_within(
         lacam,
         graph,
         scatter: scatter.as_ref().map(|s| &s.0),
+        guidance: (lacam.local_guidance > 0).then(|| {
+            crate::guidance::Guidance::new(
+                graph,
+                lacam.local_guidance,
+                lacam.guidance_collision_cost,
+            )
+        }),
         goals,
         dist: &dist,
         nodes: Vec::new(),
@@ -868,6 +898,7 @@ impl Search<'_> {
                 who: Vec::new(),
                 at: Vec::new(),
             }]),
+            guide: None,
             same_hash: NONE,
         });
         id
@@ -949,6 +980,13 @@ impl Search<'_> {
     /// false when the constraint itself breaks a rule (two agents on one vertex, a swap) or the
     /// generator leaves a conflict.
     fn generate(&mut self, id: u32, c: &Constraint) -> bool {
+        if let Some(gd) = self.guidance.as_mut()
+            && self.nodes[id as usize].guide.is_none()
+        {
+            let node = &self.nodes[id as usize];
+            let guide = gd.plan(self.graph, self.dist, self.goals, &node.config, &node.order);
+            self.nodes[id as usize].guide = Some(guide);
+        }
         let node = &self.nodes[id as usize];
         let now = &node.config;
         for (i, &v) in now.iter().enumerate() {
@@ -966,6 +1004,7 @@ impl Search<'_> {
             occupied_next: &mut self.occupied_next,
             rng: &mut self.rng,
             scatter: self.scatter,
+            guide: node.guide.as_deref(),
         };
         let mut ok = true;
         for (&i, &u) in c.who.iter().zip(&c.at) {

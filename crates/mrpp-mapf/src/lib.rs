@@ -12,6 +12,7 @@
 //! (architecture: core <- evo, mapf planners <- families <- bench <- cli/py).
 
 pub mod cbs;
+pub(crate) mod guidance;
 pub mod instance_rules;
 pub mod lacam;
 pub mod lns;

@@ -107,6 +107,9 @@ pub(crate) struct Step<'a> {
     /// Preferred paths ([`crate::scatter`]): an agent on its path tries the path's next vertex
     /// first (LaCAM* with `-p scatter`).
     pub(crate) scatter: Option<&'a crate::scatter::Scatter>,
+    /// Each agent's guidance ([`crate::guidance`]): tried first, before the scatter path's next
+    /// vertex (LaCAM with `-p local_guidance`).
+    pub(crate) guide: Option<&'a [VertexId]>,
 }
 
 /// Candidates of one agent: its vertex and its neighbours, on the stack for degree < 8.
@@ -148,6 +151,11 @@ impl Step<'_> {
         cands.sort_unstable();
         if let Some(w) = self.scatter.and_then(|s| s.next(i, here))
             && let Some(k) = cands.iter().position(|c| c.3 == w)
+        {
+            cands[..=k].rotate_right(1);
+        }
+        if let Some(g) = self.guide
+            && let Some(k) = cands.iter().position(|c| c.3 == g[i])
         {
             cands[..=k].rotate_right(1);
         }
@@ -372,6 +380,7 @@ impl Planner<MapfProblem> for Pibt {
                 occupied_next: &mut occupied_next,
                 rng: &mut rng,
                 scatter: None,
+                guide: None,
             };
             for &i in &order {
                 if st.next[i] == VertexId::MAX {
