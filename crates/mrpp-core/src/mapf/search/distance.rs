@@ -207,14 +207,8 @@ impl LazyBfs {
         true
     }
 
-    /// Runs the (started) search to the end of the goal's component.
-    fn finish(&mut self, g: &Graph) {
-        while self.step(g) {}
-    }
-
-    /// Distance from `v` to the table's goal, growing the search until `v` is reached or the
-    /// component is exhausted.
-    fn get(&mut self, g: &Graph, goal: VertexId, v: VertexId, packed: bool) -> u32 {
+    /// Allocates the table and starts the search from `goal`, unless it is started already.
+    fn start(&mut self, g: &Graph, goal: VertexId, packed: bool) {
         if matches!(self.dist, Store::Unallocated) {
             let n = g.num_vertices();
             self.dist = if packed {
@@ -227,6 +221,55 @@ impl LazyBfs {
             (self.front_d, self.front_left) = (0, 1);
             self.anchor = (goal, 0);
         }
+    }
+
+    /// Runs the (started) search to the end of the goal's component.
+    ///
+    /// A 2-byte table runs a plain array-queue BFS instead of [`LazyBfs::step`]'s layer
+    /// bookkeeping: each vertex's distance is its parent's plus one, read from the table. This is
+    /// what every warm-up that completes the tables runs (most of LaCAM's first-plan time on the
+    /// MovingAI maps of 256 x 256 cells). Should a distance reach 65 535 (graphs that large and
+    /// that long), the rest goes back to [`LazyBfs::step`], which widens the table.
+    fn finish(&mut self, g: &Graph) {
+        if let Store::Narrow(d) = &mut self.dist {
+            let mut queue: Vec<VertexId> = Vec::with_capacity(g.num_vertices());
+            queue.extend(self.queue.drain(..));
+            let mut head = 0;
+            while let Some(&u) = queue.get(head) {
+                let du = d[u as usize] + 1;
+                if du == u16::MAX {
+                    // Back to the layered search from `u` on; the queue is in distance order.
+                    let rest = &queue[head..];
+                    self.front_d = u32::from(d[u as usize]);
+                    self.front_left = rest
+                        .iter()
+                        .filter(|&&v| d[v as usize] == d[u as usize])
+                        .count();
+                    self.queue = rest.iter().copied().collect();
+                    break;
+                }
+                head += 1;
+                for &w in g.neighbors(u) {
+                    let dw = &mut d[w as usize];
+                    if *dw == u16::MAX {
+                        *dw = du;
+                        queue.push(w);
+                    }
+                }
+            }
+            if head == queue.len() {
+                self.queue = VecDeque::new();
+                self.front_left = 0;
+                return;
+            }
+        }
+        while self.step(g) {}
+    }
+
+    /// Distance from `v` to the table's goal, growing the search until `v` is reached or the
+    /// component is exhausted.
+    fn get(&mut self, g: &Graph, goal: VertexId, v: VertexId, packed: bool) -> u32 {
+        self.start(g, goal, packed);
         // The common case: a 2-byte table that has reached `v`.
         if let Store::Narrow(d) = &self.dist
             && d[v as usize] != u16::MAX
@@ -381,9 +424,11 @@ impl<'g> GoalDistances<'g> {
             let t = t
                 .get_mut()
                 .unwrap_or_else(std::sync::PoisonError::into_inner);
-            t.get(g, goals[i], v, packed);
             if finish {
+                t.start(g, goals[i], packed);
                 t.finish(g);
+            } else {
+                t.get(g, goals[i], v, packed);
             }
         };
         if goals.len().saturating_mul(g.num_vertices()) <= SEQUENTIAL_WARM_UP {
@@ -712,6 +757,31 @@ mod tests {
         assert_eq!(t.get(0, 69_999), 69_999);
         assert_eq!(t.get(0, 65_535), 65_535);
         assert_eq!(t.get(0, 3), 3);
+    }
+
+    #[test]
+    fn a_completed_warm_up_widens_past_65535_too() {
+        // The warm-up's array-queue BFS hands over to the layered one when distances reach
+        // 65 535: a path with a branch, goals at an end and in the middle.
+        let n = 70_000usize;
+        let mut edges: Vec<(VertexId, VertexId)> =
+            (0..n as VertexId - 2).map(|v| (v, v + 1)).collect();
+        edges.push((65_530, n as VertexId - 1));
+        let g = Graph::from_edges(n, &edges);
+        let goals = [0, 35_000];
+        let full = goal_distance_tables(&g, &goals);
+        let mut t = GoalDistances::new(&g, &goals);
+        assert!(t.warm_up(&[10, 20], Deadline::none()));
+        for (i, table) in full.iter().enumerate() {
+            for v in (0..n as VertexId)
+                .step_by(97)
+                .chain([65_534, 65_535, 69_998, 69_999])
+            {
+                assert_eq!(t.get(i, v), table[v as usize], "agent {i} vertex {v}");
+            }
+        }
+        assert_eq!(t.get(0, 69_999), 65_531);
+        assert_eq!(t.get(0, 69_998), 69_998);
     }
 
     #[test]
