@@ -66,9 +66,12 @@ pub struct GoalDistances<'g> {
     graph: &'g Graph,
     goals: Vec<VertexId>,
     tables: Vec<std::sync::Mutex<LazyBfs>>,
-    /// Every table, complete, when [`GoalDistances::warm_up`] found them small enough to finish
-    /// (read without locking).
+    /// Every table, when [`GoalDistances::warm_up`] found them small enough to finish, or
+    /// [`GoalDistances::warm_up_near`] grew them around the starts (read without locking).
     complete: Option<Vec<Store>>,
+    /// Per table of `complete`: whether it holds its goal's whole component (else a vertex it has
+    /// not reached is looked up in `tables`, which resumes the search).
+    whole: Vec<bool>,
     packed: bool,
 }
 
@@ -223,21 +226,32 @@ impl LazyBfs {
         }
     }
 
-    /// Runs the (started) search to the end of the goal's component.
+    /// Runs the (started) search to the end of the goal's component, or with `near = Some((v,
+    /// margin))` until every vertex within `margin` steps beyond `v`'s distance has its distance
+    /// (the search stops before expanding a vertex farther than `d(v) + margin`; the rest of the
+    /// frontier stays queued, so [`LazyBfs::step`] resumes from there). True when the component
+    /// is exhausted.
     ///
     /// A 2-byte table runs a plain array-queue BFS instead of [`LazyBfs::step`]'s layer
     /// bookkeeping: each vertex's distance is its parent's plus one, read from the table. This is
-    /// what every warm-up that completes the tables runs (most of LaCAM's first-plan time on the
-    /// MovingAI maps of 256 x 256 cells). Should a distance reach 65 535 (graphs that large and
-    /// that long), the rest goes back to [`LazyBfs::step`], which widens the table.
-    fn finish(&mut self, g: &Graph) {
+    /// what every warm-up runs (most of LaCAM's first-plan time on the MovingAI maps of
+    /// 256 x 256 cells). Should a distance reach 65 535 (graphs that large and that long), the
+    /// rest goes back to [`LazyBfs::step`], which widens the table.
+    fn expand(&mut self, g: &Graph, near: Option<(VertexId, u32)>) -> bool {
         if let Store::Narrow(d) = &mut self.dist {
             let mut queue: Vec<VertexId> = Vec::with_capacity(g.num_vertices());
             queue.extend(self.queue.drain(..));
             let mut head = 0;
+            let mut limit = u32::MAX;
             while let Some(&u) = queue.get(head) {
+                if limit == u32::MAX
+                    && let Some((v, margin)) = near
+                    && d[v as usize] != u16::MAX
+                {
+                    limit = u32::from(d[v as usize]).saturating_add(margin);
+                }
                 let du = d[u as usize] + 1;
-                if du == u16::MAX {
+                if du == u16::MAX || u32::from(d[u as usize]) > limit {
                     // Back to the layered search from `u` on; the queue is in distance order.
                     let rest = &queue[head..];
                     self.front_d = u32::from(d[u as usize]);
@@ -260,10 +274,14 @@ impl LazyBfs {
             if head == queue.len() {
                 self.queue = VecDeque::new();
                 self.front_left = 0;
-                return;
+                return true;
+            }
+            if near.is_some() && limit != u32::MAX {
+                return false;
             }
         }
         while self.step(g) {}
+        true
     }
 
     /// Distance from `v` to the table's goal, growing the search until `v` is reached or the
@@ -365,6 +383,7 @@ impl<'g> GoalDistances<'g> {
                 })
                 .collect(),
             complete: None,
+            whole: Vec::new(),
             packed,
         }
     }
@@ -379,7 +398,7 @@ impl<'g> GoalDistances<'g> {
     /// [`GoalDistances::get`]). Searches that ask for many distances read it directly.
     pub fn narrow(&self, i: usize) -> Option<&[u16]> {
         match self.complete.as_ref().map(|done| &done[i]) {
-            Some(Store::Narrow(d)) => Some(d),
+            Some(Store::Narrow(d)) if self.whole[i] => Some(d),
             _ => None,
         }
     }
@@ -388,9 +407,36 @@ impl<'g> GoalDistances<'g> {
     #[inline]
     pub fn get(&self, i: usize, v: VertexId) -> u32 {
         if let Some(done) = &self.complete {
-            return done[i].get(v as usize);
+            let d = done[i].get(v as usize);
+            if d != UNREACHABLE || self.whole[i] {
+                return d;
+            }
+            return self.get_beyond(i, v);
         }
         self.get_lazy(i, v)
+    }
+
+    /// [`GoalDistances::get`] of a vertex that a table grown by [`GoalDistances::warm_up_near`]
+    /// has not reached: the search resumes from its frontier on a copy of the table (made at the
+    /// first such query), locked.
+    #[inline(never)]
+    fn get_beyond(&self, i: usize, v: VertexId) -> u32 {
+        let mut t = self.tables[i]
+            .lock()
+            .unwrap_or_else(std::sync::PoisonError::into_inner);
+        if matches!(t.dist, Store::Unallocated) {
+            if t.queue.is_empty() {
+                return UNREACHABLE;
+            }
+            t.dist = match &self.complete.as_ref().expect("called with tables")[i] {
+                Store::Narrow(d) => Store::Narrow(d.clone()),
+                Store::Wide(d) => Store::Wide(d.clone()),
+                Store::Packed(_) | Store::Unallocated => {
+                    unreachable!("warm_up_near keeps 2 or 4 bytes")
+                }
+            };
+        }
+        t.get(self.graph, self.goals[i], v, self.packed)
     }
 
     /// [`GoalDistances::get`] on a table that may still grow (locked).
@@ -412,11 +458,28 @@ impl<'g> GoalDistances<'g> {
     /// (one table costs at most one breadth-first search of the graph), so thousands of agents
     /// on a large map stop within one search of the limit; the tables stay usable (lazy).
     pub fn warm_up(&mut self, at: &[VertexId], deadline: Deadline) -> bool {
+        self.warm_up_within(at, None, deadline)
+    }
+
+    /// [`GoalDistances::warm_up`] that, where it would complete the tables, grows each only until
+    /// it knows every vertex within `margin` steps beyond `at[i]`'s distance: about half the
+    /// breadth-first search for a start and goal drawn at random (a vertex is nearer the goal than
+    /// the start for half of the pairs), for searches that mostly look near their agents' shortest
+    /// paths (LaCAM's first plan). Queries beyond resume the search on a copy of the table, locked
+    /// (each table is copied once, at its first such query). The distances are the same.
+    pub fn warm_up_near(&mut self, at: &[VertexId], margin: u32, deadline: Deadline) -> bool {
+        self.warm_up_within(at, Some(margin), deadline)
+    }
+
+    fn warm_up_within(&mut self, at: &[VertexId], margin: Option<u32>, deadline: Deadline) -> bool {
         use rayon::prelude::*;
         let (g, goals, packed) = (self.graph, &self.goals, self.packed);
         let finish = !packed
             && at.len() == goals.len()
             && goals.len().saturating_mul(g.num_vertices()) <= COMPLETE_ENTRIES;
+        let whole: Vec<std::sync::atomic::AtomicBool> = (0..goals.len())
+            .map(|_| std::sync::atomic::AtomicBool::new(true))
+            .collect();
         let work = |(i, (t, &v)): (usize, (&mut std::sync::Mutex<LazyBfs>, &VertexId))| {
             if deadline.expired() {
                 return;
@@ -426,7 +489,9 @@ impl<'g> GoalDistances<'g> {
                 .unwrap_or_else(std::sync::PoisonError::into_inner);
             if finish {
                 t.start(g, goals[i], packed);
-                t.finish(g);
+                if !t.expand(g, margin.map(|m| (v, m))) {
+                    whole[i].store(false, std::sync::atomic::Ordering::Relaxed);
+                }
             } else {
                 t.get(g, goals[i], v, packed);
             }
@@ -444,6 +509,7 @@ impl<'g> GoalDistances<'g> {
             return false;
         }
         if finish {
+            self.whole = whole.into_iter().map(|w| w.into_inner()).collect();
             self.complete = Some(
                 self.tables
                     .iter_mut()
@@ -757,6 +823,55 @@ mod tests {
         assert_eq!(t.get(0, 69_999), 69_999);
         assert_eq!(t.get(0, 65_535), 65_535);
         assert_eq!(t.get(0, 3), 3);
+    }
+
+    #[test]
+    fn tables_grown_near_the_starts_answer_everywhere() {
+        // The grid of lazy_tables_equal_full_bfs_in_any_query_order, bigger (9 x 7, a wall with a
+        // gap), goals and starts spread out, an isolated vertex; queries near and far, in order
+        // and in reverse, and from two threads.
+        let (w, h) = (9u32, 7u32);
+        let id = |x: u32, y: u32| y * w + x;
+        let mut edges = Vec::new();
+        for y in 0..h {
+            for x in 0..w {
+                if x + 1 < w && !(x == 4 && y > 0) {
+                    edges.push((id(x, y), id(x + 1, y)));
+                }
+                if y + 1 < h {
+                    edges.push((id(x, y), id(x, y + 1)));
+                }
+            }
+        }
+        let n = (w * h) as usize + 1; // the last vertex is isolated
+        let g = Graph::from_edges(n, &edges);
+        let goals = [0, id(8, 6), id(3, 3), n as VertexId - 1];
+        let starts = [1, id(0, 6), id(3, 3), n as VertexId - 1];
+        let full = goal_distance_tables(&g, &goals);
+        for margin in [0, 2, 100] {
+            let mut t = GoalDistances::new(&g, &goals);
+            assert!(t.warm_up_near(&starts, margin, Deadline::none()));
+            // Only tables that reached their whole component are lent out whole.
+            assert_eq!(t.narrow(0).is_some(), margin == 100, "margin {margin}");
+            assert!(t.narrow(3).is_some());
+            std::thread::scope(|sc| {
+                for rev in [false, true] {
+                    let (t, full) = (&t, &full);
+                    sc.spawn(move || {
+                        for (i, table) in full.iter().enumerate() {
+                            let order: Vec<VertexId> = if rev {
+                                (0..n as VertexId).rev().collect()
+                            } else {
+                                (0..n as VertexId).collect()
+                            };
+                            for v in order {
+                                assert_eq!(t.get(i, v), table[v as usize], "agent {i} vertex {v}");
+                            }
+                        }
+                    });
+                }
+            });
+        }
     }
 
     #[test]
