@@ -92,6 +92,8 @@ impl Guidance {
     /// Each agent's guidance for `config`: the first step of its guidance path (its own vertex
     /// when the path waits), planned in `order` (the configuration's agent order, highest priority
     /// first). `dist` answers goal distances for every agent; `goals[i]` is agent `i`'s goal.
+    /// Agents not planned when `deadline` passes (checked every 64 agents) get no guidance
+    /// (`VertexId::MAX`), so a run keeps its time limit at any number of agents.
     pub(crate) fn plan(
         &mut self,
         graph: &Graph,
@@ -99,19 +101,21 @@ impl Guidance {
         goals: &[VertexId],
         config: &[VertexId],
         order: &[u32],
+        deadline: mrpp_core::Deadline,
     ) -> Box<[VertexId]> {
         self.table_stamp = self.table_stamp.wrapping_add(1);
         if self.table_stamp == 0 {
             self.table.fill((0, 0, NOBODY));
             self.table_stamp = 1;
         }
-        let mut first = config.to_vec().into_boxed_slice();
-        for &i in order {
+        let mut first = vec![VertexId::MAX; config.len()].into_boxed_slice();
+        for (k, &i) in order.iter().enumerate() {
+            if k % 64 == 63 && deadline.expired() {
+                break;
+            }
             let i = i as usize;
             self.search(graph, dist, i, config[i], goals[i]);
-            if self.path.len() > 1 {
-                first[i] = (self.path[1] as usize % self.vertices) as VertexId;
-            }
+            first[i] = (self.path[1] as usize % self.vertices) as VertexId;
             for &s in &self.path {
                 let e = &mut self.table[s as usize];
                 if e.0 != self.table_stamp {
@@ -246,6 +250,7 @@ impl Guidance {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use mrpp_core::Deadline;
 
     /// A 3 x 3 open grid, vertex `y * 3 + x`.
     fn grid3() -> Graph {
@@ -274,21 +279,59 @@ mod tests {
         let dist = GoalDistances::new(&g, &goals);
         for cost in [1, 4, 100] {
             let mut gd = Guidance::new(&g, 4, cost);
-            let first = gd.plan(&g, &dist, &goals, &config, &[0, 1]);
+            let first = gd.plan(&g, &dist, &goals, &config, &[0, 1], Deadline::none());
             assert_eq!(first[0], 4, "the first agent goes straight (cost {cost})");
             assert_ne!(
                 first[1], 4,
                 "the second agent keeps out of the centre (cost {cost})"
             );
             // In the other order the roles swap.
-            let first = gd.plan(&g, &dist, &goals, &config, &[1, 0]);
+            let first = gd.plan(&g, &dist, &goals, &config, &[1, 0], Deadline::none());
             assert_eq!(first[1], 4, "cost {cost}");
             assert_ne!(first[0], 4, "cost {cost}");
         }
         // Alone, each agent heads for the centre.
         let mut gd = Guidance::new(&g, 4, 4);
-        let alone = gd.plan(&g, &dist, &goals[..1], &config[..1], &[0]);
+        let alone = gd.plan(&g, &dist, &goals[..1], &config[..1], &[0], Deadline::none());
         assert_eq!(&*alone, &[4]);
+    }
+
+    #[test]
+    fn agents_left_when_the_deadline_passes_get_no_guidance() {
+        // 100 agents on a 10 x 10 grid, each heading one cell right (wrapping): with a deadline
+        // already passed, the first 63 in the order are guided and the rest are not.
+        let id = |x: u32, y: u32| y * 10 + x;
+        let mut edges = Vec::new();
+        for y in 0..10 {
+            for x in 0..10 {
+                if x + 1 < 10 {
+                    edges.push((id(x, y), id(x + 1, y)));
+                }
+                if y + 1 < 10 {
+                    edges.push((id(x, y), id(x, y + 1)));
+                }
+            }
+        }
+        let g = Graph::from_edges(100, &edges);
+        let config: Vec<VertexId> = (0..100).collect();
+        let goals: Vec<VertexId> = (0..100)
+            .map(|v| (v / 10) * 10 + (v % 10 + 1) % 10)
+            .collect();
+        let dist = GoalDistances::new(&g, &goals);
+        let order: Vec<u32> = (0..100).rev().collect();
+        let mut gd = Guidance::new(&g, 3, 4);
+        let past = Deadline::after(std::time::Duration::ZERO);
+        std::thread::sleep(std::time::Duration::from_millis(2));
+        let first = gd.plan(&g, &dist, &goals, &config, &order, past);
+        for (k, &i) in order.iter().enumerate() {
+            assert_eq!(
+                first[i as usize] == VertexId::MAX,
+                k >= 63,
+                "agent {i}, {k}th in the order"
+            );
+        }
+        let all = gd.plan(&g, &dist, &goals, &config, &order, Deadline::none());
+        assert!(all.iter().all(|&v| v != VertexId::MAX));
     }
 
     #[test]
@@ -299,9 +342,9 @@ mod tests {
         let config = [4, 1];
         let dist = GoalDistances::new(&g, &goals);
         let mut gd = Guidance::new(&g, 4, 4);
-        let first = gd.plan(&g, &dist, &goals, &config, &[0, 1]);
+        let first = gd.plan(&g, &dist, &goals, &config, &[0, 1], Deadline::none());
         assert_eq!(first[0], 4, "first in the order, it rests on its goal");
-        let first = gd.plan(&g, &dist, &goals, &config, &[1, 0]);
+        let first = gd.plan(&g, &dist, &goals, &config, &[1, 0], Deadline::none());
         assert_eq!(first[1], 4, "the crossing agent goes straight");
         assert_ne!(first[0], 4, "the resting agent steps aside");
     }

@@ -419,6 +419,8 @@ struct Search<'a> {
     dist: &'a GoalDistances<'a>,
     scatter: Option<&'a crate::scatter::Scatter>,
     guidance: Option<crate::guidance::Guidance>,
+    /// The run's deadline (local guidance stops planning at it).
+    deadline: mrpp_core::Deadline,
     nodes: Vec<Node>,
     by_hash: FxHashMap<u64, u32>,
     occupied_now: Vec<usize>,
@@ -502,6 +504,7 @@ fn search_within(
         }),
         goals,
         dist: &dist,
+        deadline: ctx.deadline,
         nodes: Vec::new(),
         by_hash: FxHashMap::default(),
         occupied_now: vec![NIL; graph.num_vertices()],
@@ -1004,7 +1007,14 @@ impl Search<'_> {
             && self.nodes[id as usize].guide.is_none()
         {
             let node = &self.nodes[id as usize];
-            let guide = gd.plan(self.graph, self.dist, self.goals, &node.config, &node.order);
+            let guide = gd.plan(
+                self.graph,
+                self.dist,
+                self.goals,
+                &node.config,
+                &node.order,
+                self.deadline,
+            );
             self.nodes[id as usize].guide = Some(guide);
         }
         let node = &self.nodes[id as usize];
