@@ -15,7 +15,8 @@
 //! * plus the goal distance of the vertex reached at step `window` (where the window ends),
 //! * plus `collision_cost` for each collision with a guidance path planned before it in this
 //!   configuration: the same vertex at the same step, or the two moving through one edge in
-//!   opposite directions at the same step.
+//!   opposite directions at the same step (the table keeps the last agent per vertex and step, so
+//!   a swap with an earlier agent hidden under a later one on the same cell goes uncounted).
 //!
 //! The goal distance is the heuristic (admissible: a step lowers it by one at most and costs one
 //! unless on the goal). Ties in `f` go to the state with fewer collisions, then to the later step,
@@ -41,7 +42,7 @@ use std::cmp::Reverse;
 use std::collections::BinaryHeap;
 
 use mrpp_core::mapf::search::distance::GoalDistances;
-use mrpp_core::{Graph, VertexId};
+use mrpp_core::{Ctx, Graph, Progress, Throttle, VertexId};
 
 /// States one agent's A* may expand before it settles for the best state reached.
 const MAX_EXPANSIONS: u32 = 4096;
@@ -68,7 +69,7 @@ pub(crate) struct Guidance {
     marks: Vec<(u32, u32, u32, u32)>,
     mark_stamp: u32,
     heap: BinaryHeap<Entry>,
-    /// Guidance paths planned so far in this configuration, as state indices (for the swap check).
+    /// The current agent's guidance path, as state indices from step 0 to the window's end.
     path: Vec<u32>,
 }
 
@@ -92,8 +93,9 @@ impl Guidance {
     /// Each agent's guidance for `config`: the first step of its guidance path (its own vertex
     /// when the path waits), planned in `order` (the configuration's agent order, highest priority
     /// first). `dist` answers goal distances for every agent; `goals[i]` is agent `i`'s goal.
-    /// Agents not planned when `deadline` passes (checked every 64 agents) get no guidance
-    /// (`VertexId::MAX`), so a run keeps its time limit at any number of agents.
+    /// Agents not planned when the run's deadline passes (checked every 64 agents, when progress
+    /// is reported too) get no guidance (`VertexId::MAX`), so a run keeps its time limit at any
+    /// number of agents.
     pub(crate) fn plan(
         &mut self,
         graph: &Graph,
@@ -101,7 +103,7 @@ impl Guidance {
         goals: &[VertexId],
         config: &[VertexId],
         order: &[u32],
-        deadline: mrpp_core::Deadline,
+        ctx: &Ctx,
     ) -> Box<[VertexId]> {
         self.table_stamp = self.table_stamp.wrapping_add(1);
         if self.table_stamp == 0 {
@@ -109,9 +111,18 @@ impl Guidance {
             self.table_stamp = 1;
         }
         let mut first = vec![VertexId::MAX; config.len()].into_boxed_slice();
+        let mut throttle = Throttle::new();
         for (k, &i) in order.iter().enumerate() {
-            if k % 64 == 63 && deadline.expired() {
-                break;
+            if k % 64 == 63 {
+                if ctx.deadline.expired() {
+                    break;
+                }
+                throttle.report(ctx, || Progress {
+                    stage: "LaCAM local guidance",
+                    done: k as u64,
+                    total: order.len() as u64,
+                    note: "agents' guidance paths of one configuration".into(),
+                });
             }
             let i = i as usize;
             self.search(graph, dist, i, config[i], goals[i]);
@@ -171,21 +182,20 @@ impl Guidance {
         let stamp = self.mark_stamp;
         let h = |v: VertexId| dist.get(i, v);
         self.heap.clear();
-        let s0 = start;
-        self.marks[s0 as usize] = (stamp, 0, 0, NOBODY);
-        // (f, collisions, Reverse(step), sequence, state)
-        self.heap.push(Reverse((h(start), 0, Reverse(0), 0, s0)));
+        self.marks[start as usize] = (stamp, 0, 0, NOBODY);
+        self.heap.push(Reverse((h(start), 0, Reverse(0), 0, start)));
         let mut seq = 1u32;
-        let mut best: (u32, u32, u32) = (u32::MAX, u32::MAX, s0); // (f, collisions, state) at the end
+        // (f, collisions, state) of the best state popped, the end of the path.
+        let mut best: (u32, u32, u32) = (u32::MAX, u32::MAX, start);
         let mut expansions = 0u32;
         while let Some(Reverse((f, col, Reverse(t), _, s))) = self.heap.pop() {
             let m = self.marks[s as usize];
             let v = (s as usize % nv) as VertexId;
             let g = f.saturating_sub(h(v));
-            if m.1 < g || m.2 < col && m.1 == g {
+            if (m.1, m.2) < (g, col) {
                 continue; // a stale entry
             }
-            if t == w || (v == goal && h(v) == 0 && self.rests_free(goal, t)) {
+            if t == w || (v == goal && self.rests_free(goal, t)) {
                 // The window's end (or the goal with nothing passing through it later): the
                 // remaining cost is exactly h (0 on the goal).
                 best = (f, col, s);
@@ -250,28 +260,23 @@ impl Guidance {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::GridMap;
     use mrpp_core::Deadline;
 
-    /// A 3 x 3 open grid, vertex `y * 3 + x`.
-    fn grid3() -> Graph {
-        let id = |x: u32, y: u32| y * 3 + x;
-        let mut edges = Vec::new();
-        for y in 0..3 {
-            for x in 0..3 {
-                if x + 1 < 3 {
-                    edges.push((id(x, y), id(x + 1, y)));
-                }
-                if y + 1 < 3 {
-                    edges.push((id(x, y), id(x, y + 1)));
-                }
-            }
-        }
-        Graph::from_edges(9, &edges)
+    /// An open `side` x `side` grid (the ASCII map format), vertex `y * side + x`.
+    fn open_grid(side: usize) -> Graph {
+        let text = format!("{}\n", ".".repeat(side)).repeat(side);
+        let (map, _) = GridMap::parse(&text, std::path::Path::new("open.txt")).expect("parses");
+        map.graph().clone()
+    }
+
+    fn ctx(deadline: Deadline) -> Ctx {
+        Ctx::new(0, deadline)
     }
 
     #[test]
     fn a_later_agent_is_guided_around_an_earlier_agents_path() {
-        let g = grid3();
+        let g = open_grid(3);
         // Agent 0 crosses the middle row left to right, agent 1 the middle column top to bottom:
         // both shortest paths enter the centre (4) at step 1.
         let goals = [5, 7];
@@ -279,20 +284,27 @@ mod tests {
         let dist = GoalDistances::new(&g, &goals);
         for cost in [1, 4, 100] {
             let mut gd = Guidance::new(&g, 4, cost);
-            let first = gd.plan(&g, &dist, &goals, &config, &[0, 1], Deadline::none());
+            let first = gd.plan(&g, &dist, &goals, &config, &[0, 1], &ctx(Deadline::none()));
             assert_eq!(first[0], 4, "the first agent goes straight (cost {cost})");
             assert_ne!(
                 first[1], 4,
                 "the second agent keeps out of the centre (cost {cost})"
             );
             // In the other order the roles swap.
-            let first = gd.plan(&g, &dist, &goals, &config, &[1, 0], Deadline::none());
+            let first = gd.plan(&g, &dist, &goals, &config, &[1, 0], &ctx(Deadline::none()));
             assert_eq!(first[1], 4, "cost {cost}");
             assert_ne!(first[0], 4, "cost {cost}");
         }
         // Alone, each agent heads for the centre.
         let mut gd = Guidance::new(&g, 4, 4);
-        let alone = gd.plan(&g, &dist, &goals[..1], &config[..1], &[0], Deadline::none());
+        let alone = gd.plan(
+            &g,
+            &dist,
+            &goals[..1],
+            &config[..1],
+            &[0],
+            &ctx(Deadline::none()),
+        );
         assert_eq!(&*alone, &[4]);
     }
 
@@ -300,19 +312,7 @@ mod tests {
     fn agents_left_when_the_deadline_passes_get_no_guidance() {
         // 100 agents on a 10 x 10 grid, each heading one cell right (wrapping): with a deadline
         // already passed, the first 63 in the order are guided and the rest are not.
-        let id = |x: u32, y: u32| y * 10 + x;
-        let mut edges = Vec::new();
-        for y in 0..10 {
-            for x in 0..10 {
-                if x + 1 < 10 {
-                    edges.push((id(x, y), id(x + 1, y)));
-                }
-                if y + 1 < 10 {
-                    edges.push((id(x, y), id(x, y + 1)));
-                }
-            }
-        }
-        let g = Graph::from_edges(100, &edges);
+        let g = open_grid(10);
         let config: Vec<VertexId> = (0..100).collect();
         let goals: Vec<VertexId> = (0..100)
             .map(|v| (v / 10) * 10 + (v % 10 + 1) % 10)
@@ -322,7 +322,7 @@ mod tests {
         let mut gd = Guidance::new(&g, 3, 4);
         let past = Deadline::after(std::time::Duration::ZERO);
         std::thread::sleep(std::time::Duration::from_millis(2));
-        let first = gd.plan(&g, &dist, &goals, &config, &order, past);
+        let first = gd.plan(&g, &dist, &goals, &config, &order, &ctx(past));
         for (k, &i) in order.iter().enumerate() {
             assert_eq!(
                 first[i as usize] == VertexId::MAX,
@@ -330,21 +330,21 @@ mod tests {
                 "agent {i}, {k}th in the order"
             );
         }
-        let all = gd.plan(&g, &dist, &goals, &config, &order, Deadline::none());
+        let all = gd.plan(&g, &dist, &goals, &config, &order, &ctx(Deadline::none()));
         assert!(all.iter().all(|&v| v != VertexId::MAX));
     }
 
     #[test]
     fn an_agent_on_its_goal_stays_unless_someone_must_pass() {
-        let g = grid3();
+        let g = open_grid(3);
         // Agent 0 rests on the centre; agent 1 (planned first) must cross it to reach 7 from 1.
         let goals = [4, 7];
         let config = [4, 1];
         let dist = GoalDistances::new(&g, &goals);
         let mut gd = Guidance::new(&g, 4, 4);
-        let first = gd.plan(&g, &dist, &goals, &config, &[0, 1], Deadline::none());
+        let first = gd.plan(&g, &dist, &goals, &config, &[0, 1], &ctx(Deadline::none()));
         assert_eq!(first[0], 4, "first in the order, it rests on its goal");
-        let first = gd.plan(&g, &dist, &goals, &config, &[1, 0], Deadline::none());
+        let first = gd.plan(&g, &dist, &goals, &config, &[1, 0], &ctx(Deadline::none()));
         assert_eq!(first[1], 4, "the crossing agent goes straight");
         assert_ne!(first[0], 4, "the resting agent steps aside");
     }

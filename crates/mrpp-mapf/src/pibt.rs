@@ -149,15 +149,15 @@ impl Step<'_> {
             *c = (i64::from(self.dist.get(i, c.3)), hindrance, k, c.3);
         }
         cands.sort_unstable();
-        if let Some(w) = self.scatter.and_then(|s| s.next(i, here))
-            && let Some(k) = cands.iter().position(|c| c.3 == w)
-        {
-            cands[..=k].rotate_right(1);
-        }
-        if let Some(g) = self.guide
-            && let Some(k) = cands.iter().position(|c| c.3 == g[i])
-        {
-            cands[..=k].rotate_right(1);
+        // Preferred next vertices, each moved to the front in turn: the guidance wins.
+        let preferred = [
+            self.scatter.and_then(|s| s.next(i, here)),
+            self.guide.map(|g| g[i]),
+        ];
+        for w in preferred.into_iter().flatten() {
+            if let Some(k) = cands.iter().position(|c| c.3 == w) {
+                cands[..=k].rotate_right(1);
+            }
         }
         let swap_agent = if self.tricks.swap {
             self.swap_partner(i, cands[0].3)

@@ -229,15 +229,15 @@ impl LazyBfs {
     /// Runs the (started) search to the end of the goal's component, or with `near = Some((v,
     /// margin))` until every vertex within `margin` steps beyond `v`'s distance has its distance
     /// (the search stops before expanding a vertex farther than `d(v) + margin`; the rest of the
-    /// frontier stays queued, so [`LazyBfs::step`] resumes from there). True when the component
-    /// is exhausted.
+    /// frontier stays queued, so [`LazyBfs::step`] resumes from there). The component is
+    /// exhausted when the queue is left empty.
     ///
     /// A 2-byte table runs a plain array-queue BFS instead of [`LazyBfs::step`]'s layer
     /// bookkeeping: each vertex's distance is its parent's plus one, read from the table. This is
     /// what every warm-up runs (most of LaCAM's first-plan time on the MovingAI maps of
     /// 256 x 256 cells). Should a distance reach 65 535 (graphs that large and that long), the
     /// rest goes back to [`LazyBfs::step`], which widens the table.
-    fn expand(&mut self, g: &Graph, near: Option<(VertexId, u32)>) -> bool {
+    fn expand(&mut self, g: &Graph, near: Option<(VertexId, u32)>) {
         if let Store::Narrow(d) = &mut self.dist {
             let mut queue: Vec<VertexId> = Vec::with_capacity(g.num_vertices());
             queue.extend(self.queue.drain(..));
@@ -274,14 +274,13 @@ impl LazyBfs {
             if head == queue.len() {
                 self.queue = VecDeque::new();
                 self.front_left = 0;
-                return true;
+                return;
             }
             if near.is_some() && limit != u32::MAX {
-                return false;
+                return;
             }
         }
         while self.step(g) {}
-        true
     }
 
     /// Distance from `v` to the table's goal, growing the search until `v` is reached or the
@@ -477,9 +476,6 @@ impl<'g> GoalDistances<'g> {
         let finish = !packed
             && at.len() == goals.len()
             && goals.len().saturating_mul(g.num_vertices()) <= COMPLETE_ENTRIES;
-        let whole: Vec<std::sync::atomic::AtomicBool> = (0..goals.len())
-            .map(|_| std::sync::atomic::AtomicBool::new(true))
-            .collect();
         let work = |(i, (t, &v)): (usize, (&mut std::sync::Mutex<LazyBfs>, &VertexId))| {
             if deadline.expired() {
                 return;
@@ -489,9 +485,7 @@ impl<'g> GoalDistances<'g> {
                 .unwrap_or_else(std::sync::PoisonError::into_inner);
             if finish {
                 t.start(g, goals[i], packed);
-                if !t.expand(g, margin.map(|m| (v, m))) {
-                    whole[i].store(false, std::sync::atomic::Ordering::Relaxed);
-                }
+                t.expand(g, margin.map(|m| (v, m)));
             } else {
                 t.get(g, goals[i], v, packed);
             }
@@ -509,7 +503,17 @@ impl<'g> GoalDistances<'g> {
             return false;
         }
         if finish {
-            self.whole = whole.into_iter().map(|w| w.into_inner()).collect();
+            // A table whose search left nothing queued holds its whole component.
+            self.whole = self
+                .tables
+                .iter_mut()
+                .map(|t| {
+                    t.get_mut()
+                        .unwrap_or_else(std::sync::PoisonError::into_inner)
+                        .queue
+                        .is_empty()
+                })
+                .collect();
             self.complete = Some(
                 self.tables
                     .iter_mut()
