@@ -140,12 +140,36 @@ impl Step<'_> {
             &mut heap
         };
         cands.shuffle(self.rng);
-        for (k, c) in cands.iter_mut().enumerate() {
-            let hindrance = if self.tricks.hindrance {
-                self.hindrance(i, c.3)
+        // Hindrance: the agents on `here`'s neighbours with their distances now, looked up once
+        // for all candidates.
+        let mut inline_around = [(0 as VertexId, 0usize, 0u32); INLINE];
+        let mut heap_around = Vec::new();
+        let around: &[(VertexId, usize, u32)] = if self.tricks.hindrance {
+            let buf: &mut [_] = if nbrs.len() < INLINE {
+                &mut inline_around
             } else {
-                0
+                heap_around.resize(nbrs.len(), (0, 0, 0));
+                &mut heap_around
             };
+            let mut n = 0;
+            for &w in nbrs {
+                let j = self.occupied_now[w as usize];
+                if j != NIL && j != i {
+                    buf[n] = (w, j, self.dist.get(j, w));
+                    n += 1;
+                }
+            }
+            &buf[..n]
+        } else {
+            &[]
+        };
+        for (k, c) in cands.iter_mut().enumerate() {
+            // Neighbouring agents for whom the candidate is a step towards their goal.
+            let u = c.3;
+            let hindrance = around
+                .iter()
+                .filter(|&&(w, j, dw)| w != u && self.dist.get(j, u) < dw)
+                .count() as u32;
             *c = (i64::from(self.dist.get(i, c.3)), hindrance, k, c.3);
         }
         cands.sort_unstable();
@@ -199,18 +223,6 @@ impl Step<'_> {
         self.next[i] = here;
         self.occupied_next[here as usize] = i;
         false
-    }
-
-    /// Neighbouring agents (around `i`) for whom `u` is a step towards their goal.
-    fn hindrance(&self, i: usize, u: VertexId) -> u32 {
-        let mut count = 0;
-        for &w in self.graph.neighbors(self.now[i]) {
-            let j = self.occupied_now[w as usize];
-            if j != NIL && j != i && w != u && self.dist.get(j, u) < self.dist.get(j, w) {
-                count += 1;
-            }
-        }
-        count
     }
 
     /// The agent `i` should swap with when it wants `target`, or [`NIL`]: the undecided agent on
