@@ -170,7 +170,7 @@ impl Step<'_> {
                 .iter()
                 .filter(|&&(w, j, dw)| w != u && self.dist.get(j, u) < dw)
                 .count() as u32;
-            *c = (i64::from(self.dist.get(i, c.3)), hindrance, k, c.3);
+            *c = (i64::from(self.dist.get(i, u)), hindrance, k, u);
         }
         cands.sort_unstable();
         // Preferred next vertices, each moved to the front in turn: the guidance wins.

@@ -79,9 +79,11 @@ pub struct GoalDistances<'g> {
 /// [`GoalDistances::warm_up_near`] keeps its tables for lock-free reads up to [`PACK_ENTRIES`]
 /// instead: it grows each only near its start, and a lookup through the table's lock costs more
 /// than the rest of PIBT together once the tables outgrow the caches. 10,000 agents on MovingAI's
-/// warehouse-20-40-10-2-1 (22,599 free cells, 2.3 × 10^8 entries), `mrpp solve ... -N 10000 -P
-/// lacam -s S` side by side, same plans: first plan 19.8 → 12.2 s (seed 6) and 47.1 → 27.7 s
-/// (seed 1), peak memory 0.97 → 1.11 GB and 1.44 → 1.53 GB (tables copied on far queries).
+/// warehouse-20-40-10-2-1 (22,599 free cells, 2.3 × 10^8 entries; the scenario from `mrpp gen
+/// scen --map warehouse-20-40-10-2-1.map --agents 10000 --seed 0 --out w.scen`), `mrpp solve -m
+/// warehouse-20-40-10-2-1.map -i w.scen -N 10000 -P lacam -s S -t 60` side by side, same plans:
+/// first plan 19.8 → 12.2 s (seed 6) and 47.1 → 27.7 s (seed 1), peak memory (max RSS) 0.97 →
+/// 1.11 GB and 1.44 → 1.53 GB (tables copied on far queries).
 const COMPLETE_ENTRIES: usize = 1 << 26;
 
 /// [`GoalDistances::warm_up`] runs on the calling thread when agents × vertices is at most this
