@@ -9,7 +9,15 @@
 //! each fixing the next vertices of the first `d` agents of that order. Taking a constraint node
 //! from the top configuration expands its children (the next agent in the order, at each of its
 //! neighbours and its own vertex, in a seeded random order) and asks PIBT for a successor
-//! configuration that obeys the constraint; a successor seen before is pushed again instead of
+//! configuration that obeys the constraint. mrpp leaves out the children whose own agents
+//! collide (two on one vertex, or a swap; `-p prune=true`, the default): every extension of
+//! such a constraint fails before PIBT runs, yet LaCAM as published (and lacam0) queues them
+//! and spends an iteration on each, 5^d of them at depth d on a grid. On maze-128-128-1 (a tree
+//! of one-cell corridors) with 700 agents, they were 97-100% of the iterations once the search
+//! stalled; pruning them raised the seeds solved within 30 s from 3 to 5 of 6 with 700 agents,
+//! and solved 800 agents with 2 seeds of 6 and 850 with seed 0, where the slice's runs of mrpp,
+//! lacam0 and lacam3 had solved none of 800-1,000 (docs/benchmark.md). A successor
+//! seen before is pushed again instead of
 //! being created, or, with probability `restart_rate` (0.001), the start configuration is pushed
 //! instead (a random restart, as in the authors' lacam0 and LaCAM*, IJCAI 2023: the search then
 //! tries the start's other successors with the random stream where it is, which cuts LaCAM's
@@ -148,6 +156,11 @@ pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             default: "0.001",
             doc: "probability of pushing the start configuration instead of a re-reached one (a random restart; LaCAM and LaCAM*, as lacam0)",
         },
+        Param {
+            name: "prune",
+            default: "true",
+            doc: "the low-level search queues no constraint that puts two of its agents on one vertex or swaps them (every extension of one fails too; mrpp's, LaCAM and lacam0 queue them and fail each later); false = as published",
+        },
     ],
     build: |p| {
         let anytime = [false, true][p.choice("anytime", &["false", "true"])?];
@@ -165,7 +178,9 @@ pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
         let threads: usize = p.get_in("threads", 1..=64)?;
         let local_guidance: u32 = p.get_in("local_guidance", 0..=64)?;
         let guidance_collision_cost: u32 = p.get_in("guidance_collision_cost", 1..=1000)?;
+        let prune = [true, false][p.choice("prune", &["true", "false"])?];
         Ok(Box::new(Lacam {
+            prune,
             local_guidance,
             guidance_collision_cost,
             anytime,
@@ -215,6 +230,8 @@ pub struct Lacam {
     /// Probability of restarting from the start node when a known node is reached (LaCAM and
     /// LaCAM*).
     pub restart_rate: f64,
+    /// The low-level search leaves out constraints whose own agents collide ([`consistent`]).
+    pub prune: bool,
     /// Refinements of the PIBT generator.
     pub tricks: Tricks,
     /// LaCAM* with the sum-of-loss or sum-of-costs objective: how the best plan is improved
@@ -273,6 +290,7 @@ impl Default for Lacam {
             anytime: false,
             objective: Objective::SumOfLoss,
             restart_rate: 0.001,
+            prune: true,
             tricks: Tricks {
                 swap: true,
                 hindrance: true,
@@ -735,14 +753,14 @@ const EXHAUST_CELLS: usize = 1024;
 /// Agents in different connected components never meet, so the instance has a plan iff every
 /// component's agents have one among themselves: each component of at most [`EXHAUST_CELLS`]
 /// cells holding two agents or more is searched alone, for at most `max_iterations` iterations
-/// (constraint nodes taken from LaCAM's stack; a configuration costs `1 + 5 + 5^2 + ...` of them
-/// on a grid, up to its number of agents) and until `until` at the latest (the components
+/// (constraint nodes taken from LaCAM's stack; a configuration costs at most `1 + 5 + 5^2 + ...`
+/// of them on a grid, up to its number of agents) and until `until` at the latest (the components
 /// together; the deadline of `ctx` applies as well); a component with one agent has a plan iff
 /// its goal is there. Rules: the validator's grid rules (stay at the goal, following allowed),
 /// which are LaCAM's successor rules.
 ///
-/// Cost, measured on corridors where two agents must swap (about `L^2 / 2` configurations, 13
-/// iterations each): 0.3 s and 28 MB to exhaust 200 cells, 1.4 s and 96 MB for 400 (LaCAM's own
+/// Cost, measured on corridors where two agents must swap (about `L^2 / 2` configurations, at
+/// most 13 iterations each): 0.3 s and 28 MB to exhaust 200 cells, 1.4 s and 96 MB for 400 (LaCAM's own
 /// run on them), about 100 bytes per iteration; so the caller bounds the iterations (memory) and
 /// the time in proportion to the work it has already done. Used by CBS and EECBS
 /// ([`crate::cbs`]), which cannot tell an unsolvable instance from a hard one (issue 27, item 4:
@@ -843,6 +861,20 @@ pub(crate) fn proven_unsolvable(
 /// one every 64; a round every iteration was no better.)
 const LNS_EVERY: u64 = 8;
 const LNS_STEPS: usize = 16;
+
+/// Whether constraint `c` extended by the agent now at `v` going to `u` keeps its agents apart:
+/// `u` is no other constrained agent's next vertex, and no constrained agent moves from `u` to
+/// `v` (a swap). `c` itself is consistent (the root's empty constraint is, and only consistent
+/// children are queued), so an inconsistent extension and all its own extensions would make
+/// [`Search::generate`] fail before PIBT runs: leaving them out removes no successor. On
+/// maze-128-128-1 (a tree of one-cell corridors) with 700 agents, 97-100% of LaCAM's iterations
+/// were such constraints before (a temporary trace, not in the repository).
+fn consistent(config: &[VertexId], c: &Constraint, v: VertexId, u: VertexId) -> bool {
+    c.who
+        .iter()
+        .zip(&c.at)
+        .all(|(&j, &w)| w != u && !(w == v && config[j as usize] == u))
+}
 
 /// Sum of costs of `paths` (each ends on its goal), by the validator's definition.
 fn sum_of_costs(paths: &[Vec<VertexId>], goals: &[VertexId]) -> u64 {
@@ -977,7 +1009,8 @@ impl Search<'_> {
     }
 
     /// Queues the children of constraint `c` of node `id`: the next agent of the order at each
-    /// of its candidates, shuffled.
+    /// of its candidates, shuffled, except candidates that collide with `c`'s own agents (see
+    /// [`consistent`]).
     fn expand_low_level(&mut self, id: u32, c: &Constraint) {
         let node = &self.nodes[id as usize];
         if c.who.len() >= node.config.len() {
@@ -989,6 +1022,9 @@ impl Search<'_> {
             .chain(self.graph.neighbors(v).iter().copied())
             .collect();
         cands.shuffle(&mut self.rng);
+        if self.lacam.prune {
+            cands.retain(|&u| consistent(&node.config, c, v, u));
+        }
         let node = &mut self.nodes[id as usize];
         for u in cands {
             let mut who = Vec::with_capacity(c.who.len() + 1);
@@ -1138,6 +1174,62 @@ mod tests {
             solve(&Lacam::default(), &p, &Ctx::default()),
             Err(Unsolved::GaveUp(_))
         ));
+    }
+
+    #[test]
+    fn constraints_whose_agents_collide_are_not_queued() {
+        // Agents 0 and 1 at vertices 10 and 11; the constraint moves agent 0 to 11.
+        let config = [10, 11, 12];
+        let c = Constraint {
+            who: vec![0],
+            at: vec![11],
+        };
+        // Agent 1 (at 11) onto 11 too: a vertex collision; onto 10: a swap with agent 0.
+        assert!(!consistent(&config, &c, 11, 11));
+        assert!(!consistent(&config, &c, 11, 10));
+        // Onto 12, or agent 2 (at 12) onto 13 or staying: no collision among them.
+        assert!(consistent(&config, &c, 11, 12));
+        assert!(consistent(&config, &c, 12, 13));
+        assert!(consistent(&config, &c, 12, 12));
+        // The root's empty constraint admits anything.
+        let root = Constraint {
+            who: Vec::new(),
+            at: Vec::new(),
+        };
+        assert!(consistent(&config, &root, 10, 11));
+    }
+
+    #[test]
+    fn pruning_exhausts_an_unsolvable_instance_in_fewer_iterations() {
+        // A corridor 0-1-...-7: three agents reverse their order, which has no plan, so LaCAM
+        // must exhaust it.
+        let g = Graph::from_edges(8, &[(0, 1), (1, 2), (2, 3), (3, 4), (4, 5), (5, 6), (6, 7)]);
+        let (starts, goals) = (vec![0, 1, 2], vec![7, 6, 5]);
+        let ctx = Ctx::default();
+        // The fewest iterations after which the search has exhausted it (the search is the same
+        // up to its budget, so whether it exhausts is monotone in the budget).
+        let budget = |prune: bool| {
+            let lacam = Lacam {
+                prune,
+                restart_rate: 0.0,
+                ..Lacam::default()
+            };
+            let exhausts = |b| {
+                matches!(
+                    search_within(&lacam, &g, &starts, &goals, &ctx, b, None),
+                    Err(Unsolved::GaveUp(_))
+                )
+            };
+            let (mut lo, mut hi) = (0u64, 1u64 << 20);
+            assert!(exhausts(hi));
+            while hi - lo > 1 {
+                let mid = (lo + hi) / 2;
+                if exhausts(mid) { hi = mid } else { lo = mid }
+            }
+            hi
+        };
+        let (pruned, published) = (budget(true), budget(false));
+        assert!(pruned < published, "{pruned} vs {published}");
     }
 
     #[test]
