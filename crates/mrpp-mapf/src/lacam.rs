@@ -14,10 +14,8 @@
 //! such a constraint fails before PIBT runs, yet LaCAM as published (and lacam0) queues them
 //! and spends an iteration on each, 5^d of them at depth d on a grid. On maze-128-128-1 (a tree
 //! of one-cell corridors) with 700 agents, they were 97-100% of the iterations once the search
-//! stalled; pruning them raised the seeds solved within 30 s from 3 to 5 of 6 with 700 agents,
-//! and solved 800 agents with 2 seeds of 6 and 850 with seed 0, where the slice's runs of mrpp,
-//! lacam0 and lacam3 had solved none of 800-1,000 (docs/benchmark.md). A successor
-//! seen before is pushed again instead of
+//! stalled; pruning them raised the runs solved within 30 s with 700-1,000 agents, seeds 0-5,
+//! from 7 to 11 of 42 (docs/benchmark.md). A successor seen before is pushed again instead of
 //! being created, or, with probability `restart_rate` (0.001), the start configuration is pushed
 //! instead (a random restart, as in the authors' lacam0 and LaCAM*, IJCAI 2023: the search then
 //! tries the start's other successors with the random stream where it is, which cuts LaCAM's
@@ -159,7 +157,7 @@ pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
         Param {
             name: "prune",
             default: "true",
-            doc: "the low-level search queues no constraint that puts two of its agents on one vertex or swaps them (every extension of one fails too; mrpp's, LaCAM and lacam0 queue them and fail each later); false = as published",
+            doc: "mrpp's: the low-level search queues no constraint that puts two of its agents on one vertex or swaps them (every extension of one fails as well; LaCAM as published and lacam0 queue them and fail each in turn); false = as published",
         },
     ],
     build: |p| {
@@ -760,8 +758,10 @@ const EXHAUST_CELLS: usize = 1024;
 /// which are LaCAM's successor rules.
 ///
 /// Cost, measured on corridors where two agents must swap (about `L^2 / 2` configurations, at
-/// most 13 iterations each): 0.3 s and 28 MB to exhaust 200 cells, 1.4 s and 96 MB for 400 (LaCAM's own
-/// run on them), about 100 bytes per iteration; so the caller bounds the iterations (memory) and
+/// most 13 iterations each): 0.14-0.16 s and 30 MB to exhaust 200 cells, 0.7-0.8 s and 99 MB for
+/// 400 (LaCAM's own run on them, `mrpp solve -m CORRIDOR.map -i SWAP.scen -P lacam` on a
+/// one-row map, peak resident set, with and without `prune`, 2026-12-06), about 100 bytes per
+/// iteration; so the caller bounds the iterations (memory) and
 /// the time in proportion to the work it has already done. Used by CBS and EECBS
 /// ([`crate::cbs`]), which cannot tell an unsolvable instance from a hard one (issue 27, item 4:
 /// a 10-cell corridor swap grew CBS to 4.6 GB in 60 s).
