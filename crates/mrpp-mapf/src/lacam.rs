@@ -761,8 +761,8 @@ const EXHAUST_CELLS: usize = 1024;
 /// most 13 iterations each): 0.14-0.16 s and 30 MB to exhaust 200 cells, 0.7-0.8 s and 99 MB for
 /// 400 (LaCAM's own run on them, `mrpp solve -m CORRIDOR.map -i SWAP.scen -P lacam` on a
 /// one-row map, peak resident set, with and without `prune`, 2026-12-06), about 100 bytes per
-/// iteration; so the caller bounds the iterations (memory) and
-/// the time in proportion to the work it has already done. Used by CBS and EECBS
+/// iteration; so the caller bounds the iterations (memory) and the time in proportion to the
+/// work it has already done. Used by CBS and EECBS
 /// ([`crate::cbs`]), which cannot tell an unsolvable instance from a hard one (issue 27, item 4:
 /// a 10-cell corridor swap grew CBS to 4.6 GB in 60 s).
 pub(crate) fn proven_unsolvable(
@@ -868,7 +868,8 @@ const LNS_STEPS: usize = 16;
 /// children are queued), so an inconsistent extension and all its own extensions would make
 /// [`Search::generate`] fail before PIBT runs: leaving them out removes no successor. On
 /// maze-128-128-1 (a tree of one-cell corridors) with 700 agents, 97-100% of LaCAM's iterations
-/// were such constraints before (a temporary trace, not in the repository).
+/// were such constraints once the search stalled, before they were left out (a temporary trace,
+/// not in the repository).
 fn consistent(config: &[VertexId], c: &Constraint, v: VertexId, u: VertexId) -> bool {
     c.who
         .iter()
@@ -1177,7 +1178,7 @@ mod tests {
     }
 
     #[test]
-    fn constraints_whose_agents_collide_are_not_queued() {
+    fn extensions_that_collide_with_the_constrained_agents_are_inconsistent() {
         // Agents 0 and 1 at vertices 10 and 11; the constraint moves agent 0 to 11.
         let config = [10, 11, 12];
         let c = Constraint {
