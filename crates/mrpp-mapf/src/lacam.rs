@@ -21,9 +21,22 @@
 //! tries the start's other successors with the random stream where it is, which cuts LaCAM's
 //! heavy-tailed runtimes short: room-32-32-4 with 341 agents took over 30 s with seed 1 and 38 ms
 //! with seed 0 when only LaCAM* restarted; with restarts 8 seeds of 8 solved it, in 15-473 ms,
-//! docs/benchmark.md). A configuration whose constraint queue runs dry leaves the stack. LaCAM is
-//! complete: on a solvable instance it finds a plan (given time), and on an unsolvable one it
-//! reports so once every configuration is exhausted.
+//! docs/benchmark.md). A configuration whose constraint queue runs dry leaves the stack.
+//!
+//! mrpp's *stall restarts* (`-p stall_restart=500`, the default; `0` = never, as published):
+//! before the first plan, once that many iterations in a row have created no configuration, the
+//! search starts again from the start configuration with every configuration forgotten (the
+//! random stream goes on, so the new search differs), and the limit doubles. On maze-128-128-1
+//! (one-cell corridors) the seeds that solve do so mostly within seconds and those that stall
+//! stay stalled (with 750 agents, 13 of 24 seeds solved within 6 s, 3 of 6 within 30 s); with
+//! restarts each stall becomes a fresh try: 750 agents, seeds 0-5, 30 s, 6 of 6 solved at limits
+//! 100, 500 and 2,000, and 750-850 agents together 6 of 18 without, 9, 11 and 7 of 18 at those
+//! limits (docs/benchmark.md). A stall of a few hundred iterations is tens of milliseconds there;
+//! elsewhere a run seldom meets one.
+//!
+//! LaCAM is complete: on a solvable instance it finds a plan (given time), and on an unsolvable
+//! one it reports so once every configuration is exhausted; stall restarts keep that, since the
+//! doubling limit eventually exceeds the iterations an exhaustive search needs.
 //!
 //! With `anytime` ([`Lacam::anytime`], `-p anytime=true`) the search is LaCAM*: after the first
 //! plan it keeps searching, drops nodes whose `f = g + h` is not below the best plan's cost,
@@ -159,6 +172,11 @@ pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             default: "true",
             doc: "mrpp's: the low-level search queues no constraint that puts two of its agents on one vertex or swaps them (every extension of one fails as well; LaCAM as published and lacam0 queue them and fail each in turn); false = as published",
         },
+        Param {
+            name: "stall_restart",
+            default: "500",
+            doc: "mrpp's: before the first plan, after this many iterations in a row without a new configuration the search starts again from the start configuration with its explored configurations forgotten (the random stream goes on); the limit doubles at each restart, so the search stays complete; 0 = never, as published (0-1000000000)",
+        },
     ],
     build: |p| {
         let anytime = [false, true][p.choice("anytime", &["false", "true"])?];
@@ -177,8 +195,10 @@ pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
         let local_guidance: u32 = p.get_in("local_guidance", 0..=64)?;
         let guidance_collision_cost: u32 = p.get_in("guidance_collision_cost", 1..=1000)?;
         let prune = [true, false][p.choice("prune", &["true", "false"])?];
+        let stall_restart: u64 = p.get_in("stall_restart", 0..=1_000_000_000)?;
         Ok(Box::new(Lacam {
             prune,
+            stall_restart,
             local_guidance,
             guidance_collision_cost,
             anytime,
@@ -230,6 +250,9 @@ pub struct Lacam {
     pub restart_rate: f64,
     /// The low-level search leaves out constraints whose own agents collide ([`consistent`]).
     pub prune: bool,
+    /// Before the first plan: iterations in a row without a new configuration after which the
+    /// search starts afresh from the start configuration, doubling at each restart; 0 = never.
+    pub stall_restart: u64,
     /// Refinements of the PIBT generator.
     pub tricks: Tricks,
     /// LaCAM* with the sum-of-loss or sum-of-costs objective: how the best plan is improved
@@ -289,6 +312,7 @@ impl Default for Lacam {
             objective: Objective::SumOfLoss,
             restart_rate: 0.001,
             prune: true,
+            stall_restart: STALL_RESTART,
             tricks: Tricks {
                 swap: true,
                 hindrance: true,
@@ -314,8 +338,10 @@ pub struct Report {
     pub final_cost: u64,
     /// The search ran dry with a plan: no plan has a lower objective value.
     pub proven_optimal: bool,
-    /// Configurations generated.
+    /// Configurations generated (since the last stall restart).
     pub configurations: usize,
+    /// Stall restarts before the first plan ([`Lacam::stall_restart`]).
+    pub restarts: u64,
     /// The best objective value the configuration search itself reached (with refinement the
     /// returned plan may be the refined one).
     pub search_cost: u64,
@@ -363,7 +389,7 @@ impl Planner<MapfProblem> for Lacam {
     }
 
     /// `first_solution_ms`, `first_cost`, `final_cost`, `objective`, `proven_optimal`,
-    /// `configurations`, and with refinement `search_cost`, `lns_steps`, `lns_improvements` and
+    /// `configurations`, `restarts`, and with refinement `search_cost`, `lns_steps`, `lns_improvements` and
     /// `lns_lowers` (`sum_of_loss` or `sum_of_costs`), of the last plan.
     fn notes(&self) -> serde_json::Map<String, serde_json::Value> {
         let mut m = serde_json::Map::new();
@@ -375,6 +401,7 @@ impl Planner<MapfProblem> for Lacam {
             m.insert("final_cost".into(), r.final_cost.into());
             m.insert("proven_optimal".into(), r.proven_optimal.into());
             m.insert("configurations".into(), r.configurations.into());
+            m.insert("restarts".into(), r.restarts.into());
             if r.lns_steps > 0 {
                 m.insert("search_cost".into(), r.search_cost.into());
                 m.insert("lns_steps".into(), r.lns_steps.into());
@@ -394,6 +421,9 @@ impl Planner<MapfProblem> for Lacam {
         m
     }
 }
+
+/// The default of [`Lacam::stall_restart`] (`-p stall_restart`).
+pub const STALL_RESTART: u64 = 500;
 
 /// No node.
 const NONE: u32 = u32::MAX;
@@ -528,8 +558,13 @@ fn search_within(
         next: vec![VertexId::MAX; n],
         rng: ChaCha8Rng::seed_from_u64(ctx.seed),
     };
-    let root = s.create(starts.to_vec().into_boxed_slice(), NONE, 0);
+    let mut root = s.create(starts.to_vec().into_boxed_slice(), NONE, 0);
     let mut open = vec![root];
+    // Stall restarts (before the first plan): the iteration that last created a node, the
+    // current limit and the restarts so far.
+    let mut last_new = 0u64;
+    let mut stall_limit = lacam.stall_restart;
+    let mut restarts = 0u64;
     let mut goal = NONE;
     let mut first: Option<(f64, u64)> = None;
     // Sum of costs: the search's plan of least sum of costs so far (its best on sum of loss
@@ -549,13 +584,25 @@ fn search_within(
             break;
         }
         iterations += 1;
+        if first.is_none() && stall_limit > 0 && iterations - last_new > stall_limit {
+            // Start afresh: forget every configuration (the random stream goes on).
+            s.nodes.clear();
+            s.by_hash.clear();
+            root = s.create(starts.to_vec().into_boxed_slice(), NONE, 0);
+            open.clear();
+            open.push(root);
+            last_new = iterations;
+            stall_limit = stall_limit.saturating_mul(2);
+            restarts += 1;
+            continue;
+        }
         if first.is_none() {
             let configurations = s.nodes.len();
             throttle.report(ctx, || Progress {
                 stage: "LaCAM search",
                 done: iterations,
                 total: 0,
-                note: format!("{configurations} configurations, no plan yet"),
+                note: format!("{configurations} configurations, {restarts} restarts, no plan yet"),
             });
         }
         if let Some(l) = lns.as_mut()
@@ -667,6 +714,7 @@ fn search_within(
             let config = s.next.clone().into_boxed_slice();
             let g = s.nodes[top as usize].g + s.edge_cost(&s.nodes[top as usize].config, &config);
             let id = s.create(config, top, g);
+            last_new = iterations;
             s.nodes[top as usize].neighbors.push(id);
             s.link(hash, id);
             if goal == NONE || s.nodes[id as usize].f() < s.nodes[goal as usize].f() {
@@ -721,6 +769,7 @@ fn search_within(
         final_cost,
         proven_optimal,
         configurations: s.nodes.len(),
+        restarts,
         search_cost,
         lns_steps: lns.as_ref().map_or(0, |l| l.counts().0),
         lns_improvements: lns.as_ref().map_or(0, |l| l.counts().1),
@@ -833,7 +882,11 @@ pub(crate) fn proven_unsolvable(
             .map(|&u| graph.neighbors(u).iter().map(|v| local[v]).collect())
             .collect();
         let sub = Graph::from_adjacency(&adjacency, None);
-        let lacam = Lacam::default();
+        // No stall restarts: the proof needs one uninterrupted exhaustive run.
+        let lacam = Lacam {
+            stall_restart: 0,
+            ..Lacam::default()
+        };
         if let Err(Unsolved::GaveUp(_)) = search_within(
             &lacam,
             &sub,
@@ -1178,6 +1231,31 @@ mod tests {
     }
 
     #[test]
+    fn stall_restarts_keep_the_search_complete() {
+        // A limit of one iteration without a new configuration restarts the search often; the
+        // limit doubles, so it still solves a corridor where one agent must wait in a side
+        // pocket (0-1-2-3-4-5, pocket 6 off vertex 2) and exhausts a corridor reversal.
+        let lacam = Lacam {
+            stall_restart: 1,
+            ..Lacam::default()
+        };
+        let g = Graph::from_edges(7, &[(0, 1), (1, 2), (2, 3), (3, 4), (4, 5), (2, 6)]);
+        let inst = Instance::new(vec![0, 1, 5], vec![5, 4, 0]).unwrap();
+        let p = MapfProblem::on(&g, &inst, Rules::default());
+        let s = solve(&lacam, &p, &Ctx::default()).unwrap();
+        assert!(s.metrics.makespan >= 5);
+        let restarts = lacam.report().unwrap().restarts;
+        assert!(restarts > 0, "{restarts}");
+        let g = Graph::from_edges(8, &[(0, 1), (1, 2), (2, 3), (3, 4), (4, 5), (5, 6), (6, 7)]);
+        let inst = Instance::new(vec![0, 1, 2], vec![7, 6, 5]).unwrap();
+        let p = MapfProblem::on(&g, &inst, Rules::default());
+        assert!(matches!(
+            solve(&lacam, &p, &Ctx::default()),
+            Err(Unsolved::GaveUp(_))
+        ));
+    }
+
+    #[test]
     fn extensions_that_collide_with_the_constrained_agents_are_inconsistent() {
         // Agents 0 and 1 at vertices 10 and 11; the constraint moves agent 0 to 11.
         let config = [10, 11, 12];
@@ -1213,6 +1291,7 @@ mod tests {
             let lacam = Lacam {
                 prune,
                 restart_rate: 0.0,
+                stall_restart: 0,
                 ..Lacam::default()
             };
             let exhausts = |b| {
