@@ -169,7 +169,11 @@ fn cbs_and_eecbs_match_brute_force() {
             ..Cbs::optimal().settings
         });
         let rectangle = Cbs::new(mrpp_grid::cbs::Settings {
-            rectangle: true,
+            rectangle: mrpp_grid::cbs::Rectangle::Proven,
+            ..Cbs::optimal().settings
+        });
+        let rectangle_mdd = Cbs::new(mrpp_grid::cbs::Settings {
+            rectangle: mrpp_grid::cbs::Rectangle::Mdd,
             ..Cbs::optimal().settings
         });
         for (name, planner) in [
@@ -182,6 +186,7 @@ fn cbs_and_eecbs_match_brute_force() {
             ("cbs standard splitting", standard),
             ("cbs standard splitting, WDG", standard_wdg),
             ("cbs with rectangle reasoning", rectangle),
+            ("cbs with CBSH2-RTC's rectangle reasoning", rectangle_mdd),
             ("eecbs(1)", Cbs::eecbs(1.0)),
         ] {
             match solve(&planner, &problem, &ctx()) {
@@ -222,11 +227,11 @@ fn cbs_and_eecbs_match_brute_force() {
 
 /// Beyond brute force's reach: on 24 seeded 7 x 7 grids with 20 % walls and 6..=14 agents, every
 /// optimal variant (heuristic none, CG, WDG; target reasoning on and off; disjoint and standard
-/// splitting; rectangle reasoning with none and CG; EECBS(1)) that returns within 1 s returns the same sum of costs, and the
+/// splitting; rectangle reasoning, mrpp's conditions and CBSH2-RTC's, with none and CG; EECBS(1)) that returns within 1 s returns the same sum of costs, and the
 /// default solves at least 80 % of them.
 #[test]
 fn optimal_variants_agree_on_larger_grids() {
-    use mrpp_grid::cbs::{Heuristic, Settings};
+    use mrpp_grid::cbs::{Heuristic, Rectangle, Settings};
     let mut rng = ChaCha8Rng::seed_from_u64(20_261_205);
     let (mut cases, mut default_solved) = (0, 0);
     for case in 0..24 {
@@ -287,12 +292,14 @@ fn optimal_variants_agree_on_larger_grids() {
             }
         }
         for heuristic in [Heuristic::None, Heuristic::Cg] {
-            let s = Settings {
-                heuristic,
-                rectangle: true,
-                ..base
-            };
-            variants.push((format!("{s:?}"), Cbs::new(s)));
+            for rectangle in [Rectangle::Proven, Rectangle::Mdd] {
+                let s = Settings {
+                    heuristic,
+                    rectangle,
+                    ..base
+                };
+                variants.push((format!("{s:?}"), Cbs::new(s)));
+            }
         }
         variants.push(("eecbs(1)".into(), Cbs::eecbs(1.0)));
         let mut agreed: Option<(u64, String)> = None;
@@ -330,13 +337,15 @@ fn optimal_variants_agree_on_larger_grids() {
 }
 
 /// Rectangle reasoning where it fires: on 30 seeded instances on an open 9 x 9 grid with 8..=16
-/// agents, CBS with and without it (CG and WDG heuristics, EECBS(1)) returns the same sum of
-/// costs whenever both return within 1 s, and it splits on barriers in some of them.
+/// agents, CBS with it (mrpp's conditions and CBSH2-RTC's) and without it (CG and WDG
+/// heuristics, EECBS(1)) returns the same sum of costs whenever both return within 1 s, and each
+/// kind splits on barriers in some of them.
 #[test]
 fn rectangle_reasoning_keeps_costs_optimal_on_open_grids() {
-    use mrpp_grid::cbs::{Heuristic, Settings};
+    use mrpp_grid::cbs::{Heuristic, Rectangle, Settings};
     let mut rng = ChaCha8Rng::seed_from_u64(202_612_059);
-    let (mut compared, mut with_rectangles) = (0, 0);
+    // Runs with barrier splits: mrpp's conditions, CBSH2-RTC's.
+    let (mut compared, mut with_rectangles) = (0, [0, 0]);
     for case in 0..30 {
         let map = GridMap::from_free_rows(&vec![vec![true; 9]; 9]);
         let g = map.graph();
@@ -349,7 +358,7 @@ fn rectangle_reasoning_keeps_costs_optimal_on_open_grids() {
         let base = Cbs::optimal().settings;
         let mut agreed: Option<(u64, String)> = None;
         for heuristic in [Heuristic::Cg, Heuristic::Wdg] {
-            for rectangle in [true, false] {
+            for rectangle in [Rectangle::Proven, Rectangle::Mdd, Rectangle::Off] {
                 let s = Settings {
                     heuristic,
                     rectangle,
@@ -366,8 +375,10 @@ fn rectangle_reasoning_keeps_costs_optimal_on_open_grids() {
                         } else {
                             agreed = Some((cost, name));
                         }
-                        if rectangle && planner.report().is_some_and(|r| r.rectangles > 0) {
-                            with_rectangles += 1;
+                        if rectangle != Rectangle::Off
+                            && planner.report().is_some_and(|r| r.rectangles > 0)
+                        {
+                            with_rectangles[usize::from(rectangle == Rectangle::Mdd)] += 1;
                         }
                     }
                     Err(Unsolved::TimeLimit) => {}
@@ -390,7 +401,7 @@ fn rectangle_reasoning_keeps_costs_optimal_on_open_grids() {
     }
     assert!(compared >= 20, "only {compared} of 30 open grids solved");
     assert!(
-        with_rectangles >= 5,
-        "rectangle splits in only {with_rectangles} runs"
+        with_rectangles.iter().all(|&n| n >= 5),
+        "rectangle splits in only {with_rectangles:?} runs"
     );
 }

@@ -74,7 +74,13 @@
 //! maps those conditions seldom hold (paths that bend around obstacles can reach part of the
 //! rectangle early): on den520d with 100 agents 312 of about 13,000 conflicts tried passed, none
 //! cardinal, and on random-32-32-20 it did not raise the proven bound within 20 s
-//! (docs/performance.md), hence off by default. Corridor reasoning (Li et al., ICAPS 2020) is
+//! (docs/performance.md), hence off by default. `-p rectangle=mdd` takes CBSH2-RTC's conditions
+//! instead ([`Rectangle::Mdd`]): each agent's corners are the points of its monotone segment
+//! farthest from the conflict where its MDD has a single vertex, so every path at the current
+//! cost passes them and every conflict-free pair at the current costs is kept; pairs with a
+//! longer path are the paper's claim, which `tests/cbs_optimal.rs` checks against brute force
+//! and the other variants. On den520d with 100 agents it split 3,468 conflicts on barriers but
+//! still ended at the bound 16,649 after 60 s. Corridor reasoning (Li et al., ICAPS 2020) is
 //! not implemented: on den520d no split conflict lay in a corridor.
 //!
 //! *Unsolvable instances*: the constraint tree of an instance without a plan is infinite, and
@@ -118,7 +124,7 @@ pub const EECBS_NAME: &str = "eecbs";
 const RECTANGLE_PARAM: Param = Param {
     name: "rectangle",
     default: "false",
-    doc: "rectangle reasoning on grids: when no conflict is cardinal, a conflict of two agents crossing a rectangle on time splits on barriers, one per agent, instead of one cell (Li et al., AAAI 2019), under arrival-time conditions that keep every conflict-free pair of paths (cbs/mod.rs, `Search::rectangle`); used with MDD prioritisation. Off by default: it fired on few conflicts of MovingAI maps and did not raise the proven bound (docs/performance.md)",
+    doc: "rectangle reasoning on grids: when no conflict is cardinal, a conflict of two agents crossing a rectangle on time splits on barriers, one per agent, instead of one cell (Li et al., AAAI 2019); used with MDD prioritisation. true = under mrpp's arrival-time conditions, which keep every conflict-free pair of paths (cbs/mod.rs, `Search::rectangle`; they seldom hold on MovingAI maps); mdd = CBSH2-RTC's conditions (the rectangle's corners are singletons of the agents' MDDs: every conflict-free pair at the current costs is kept, an optimal plan by the paper's claim, tested but not proven by mrpp); false = none (the default)",
 };
 
 /// CBS in the planner registry.
@@ -161,7 +167,7 @@ pub const CBS_ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             bypass: p.choice("bypass", &["false", "true"])? == 1,
             disjoint: p.choice("splitting", &["standard", "disjoint"])? == 1,
             target: p.choice("target", &["false", "true"])? == 1,
-            rectangle: p.choice("rectangle", &["false", "true"])? == 1,
+            rectangle: Rectangle::from_param(p)?,
             heuristic: [
                 Heuristic::None,
                 Heuristic::Cg,
@@ -208,7 +214,7 @@ pub const EECBS_ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
             bypass: p.choice("bypass", &["false", "true"])? == 1,
             disjoint: p.choice("splitting", &["standard", "disjoint"])? == 1,
             target: p.choice("target", &["false", "true"])? == 1,
-            rectangle: p.choice("rectangle", &["false", "true"])? == 1,
+            rectangle: Rectangle::from_param(p)?,
             heuristic: Heuristic::None,
         })))
     },
@@ -228,12 +234,37 @@ pub struct Settings {
     pub disjoint: bool,
     /// Target reasoning (Li et al., ICAPS 2020; [`Search::split`]).
     pub target: bool,
-    /// Rectangle reasoning on grids (Li et al., AAAI 2019; [`Search::rectangle`]); used with
-    /// `prioritize` only (it needs the MDDs).
-    pub rectangle: bool,
+    /// Rectangle reasoning on grids (Li et al., AAAI 2019; [`Search::rectangle`]) and its
+    /// conditions; used with `prioritize` only (it needs the MDDs).
+    pub rectangle: Rectangle,
     /// CBS: the heuristic added to each node's sum of costs in the best-first order (ignored
     /// by EECBS).
     pub heuristic: Heuristic,
+}
+
+/// Rectangle reasoning's conditions (`-p rectangle`; [`Search::rectangle`]): when a rectangle
+/// conflict may be split on barriers.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Rectangle {
+    /// No rectangle reasoning (`false`, the default).
+    Off,
+    /// mrpp's conditions (`true`): lower bounds on the agents' arrival times prove that every
+    /// pair of conflict-free paths, of any costs, stays in a child.
+    Proven,
+    /// CBSH2-RTC's (`mdd`; Li, Harabor, Stuckey, Ma, Koenig, AAAI 2019, and AIJ 2021, rectangle
+    /// reasoning with MDDs): the rectangle's corners are points of the current paths where the
+    /// agents' MDDs have one vertex, so every pair of conflict-free paths at the current costs
+    /// stays in a child. Pairs where an agent takes a longer path are not covered by that
+    /// argument; that an optimal plan survives them is the paper's claim, which mrpp tests
+    /// (`crates/mrpp-grid/tests/cbs_optimal.rs`) but does not prove.
+    Mdd,
+}
+
+impl Rectangle {
+    fn from_param(p: &mrpp_core::Params) -> mrpp_core::error::Result<Self> {
+        Ok([Rectangle::Off, Rectangle::Proven, Rectangle::Mdd]
+            [p.choice("rectangle", &["false", "true", "mdd"])?])
+    }
 }
 
 /// CBS's admissible heuristics over the constraint tree (module doc): a minimum vertex cover of
@@ -294,7 +325,7 @@ impl Cbs {
             bypass: true,
             disjoint: true,
             target: true,
-            rectangle: false,
+            rectangle: Rectangle::Off,
             heuristic: Heuristic::Cg,
         })
     }
@@ -308,7 +339,7 @@ impl Cbs {
             bypass: true,
             disjoint: true,
             target: true,
-            rectangle: false,
+            rectangle: Rectangle::Off,
             heuristic: Heuristic::None,
         })
     }
@@ -356,7 +387,7 @@ impl Planner<MapfProblem> for Cbs {
             if self.settings.heuristic == Heuristic::Wdg {
                 m.insert("pair_searches".into(), r.pair_searches.into());
             }
-            if self.settings.rectangle && self.settings.prioritize {
+            if self.settings.rectangle != Rectangle::Off && self.settings.prioritize {
                 m.insert("rectangles".into(), r.rectangles.into());
                 m.insert("rectangle_tries".into(), r.rectangle_tries.into());
             }
@@ -1030,7 +1061,7 @@ impl<'a> Search<'a> {
             }
         }
         let (rank, chosen) = best.expect("a node with conflicts");
-        if !self.settings.rectangle || rank.0 == 0 {
+        if self.settings.rectangle == Rectangle::Off || rank.0 == 0 {
             return chosen;
         }
         // No cardinal conflict: a rectangle conflict at least as cardinal is split on barriers
@@ -1163,8 +1194,25 @@ impl<'a> Search<'a> {
             }
             (ts, tg, sx, sy)
         };
-        let (s1t, g1t, sx1, sy1) = segment(&paths[0]);
-        let (s2t, g2t, sx2, sy2) = segment(&paths[1]);
+        let (mut s1t, mut g1t, sx1, sy1) = segment(&paths[0]);
+        let (mut s2t, mut g2t, sx2, sy2) = segment(&paths[1]);
+        let mdd_corners = self.settings.rectangle == Rectangle::Mdd;
+        if mdd_corners {
+            // CBSH2-RTC's corners: the segment's points nearest its ends where the agent's MDD
+            // has one vertex, so every path at the current cost passes them at those times.
+            for (side, ts, tg) in [(0, &mut s1t, &mut g1t), (1, &mut s2t, &mut g2t)] {
+                let mdd = self.mdd(k, agents[side]);
+                while *ts < t0 && !mdd.singleton(*ts as u32) {
+                    *ts += 1;
+                }
+                while *tg > t0 && !mdd.singleton(*tg as u32) {
+                    *tg -= 1;
+                }
+                if !mdd.singleton(*ts as u32) || !mdd.singleton(*tg as u32) {
+                    return None;
+                }
+            }
+        }
         let combine = |a: i64, b: i64| match (a, b) {
             (0, 0) => None,
             (0, b) => Some(b),
@@ -1238,45 +1286,48 @@ impl<'a> Search<'a> {
         if !on(&paths[top], &top_cells) || !on(&paths[left], &left_cells) {
             return None;
         }
-        let dists = [
-            self.start_distances(agents[0])?,
-            self.start_distances(agents[1])?,
-        ];
-        let grid = self.grid.get().and_then(Option::as_ref)?;
-        let vertex = |p: (i64, i64)| grid.vertex_at(sx * p.0, sy * p.1);
-        let starts = &self.problem.instance().starts;
-        let sound = |side: usize, from_top: bool| {
-            let d = &dists[side];
-            let early = |p: (i64, i64), slack: i64| {
-                vertex(p).is_some_and(|v| {
-                    let dv = d[v as usize];
-                    dv != UNREACHABLE && i64::from(dv) < plane(p) + slack
-                })
-            };
-            for x in rs.0..=rg.0 {
-                for y in rs.1..=rg.1 {
-                    if early((x, y), 0) {
-                        return false;
+        // mrpp's conditions (`Rectangle::Proven`, above).
+        if !mdd_corners {
+            let dists = [
+                self.start_distances(agents[0])?,
+                self.start_distances(agents[1])?,
+            ];
+            let grid = self.grid.get().and_then(Option::as_ref)?;
+            let vertex = |p: (i64, i64)| grid.vertex_at(sx * p.0, sy * p.1);
+            let starts = &self.problem.instance().starts;
+            let sound = |side: usize, from_top: bool| {
+                let d = &dists[side];
+                let early = |p: (i64, i64), slack: i64| {
+                    vertex(p).is_some_and(|v| {
+                        let dv = d[v as usize];
+                        dv != UNREACHABLE && i64::from(dv) < plane(p) + slack
+                    })
+                };
+                for x in rs.0..=rg.0 {
+                    for y in rs.1..=rg.1 {
+                        if early((x, y), 0) {
+                            return false;
+                        }
                     }
                 }
-            }
-            let side_in = if from_top {
-                (rs.0..=rg.0).any(|x| early((x, rs.1 - 1), 1))
-            } else {
-                (rs.1..=rg.1).any(|y| early((rs.0 - 1, y), 1))
+                let side_in = if from_top {
+                    (rs.0..=rg.0).any(|x| early((x, rs.1 - 1), 1))
+                } else {
+                    (rs.1..=rg.1).any(|y| early((rs.0 - 1, y), 1))
+                };
+                if side_in
+                    || (rs.1..=rg.1).any(|y| early((rg.0 + 1, y), -1))
+                    || (rs.0..=rg.0).any(|x| early((x, rg.1 + 1), -1))
+                {
+                    return false;
+                }
+                let st = tr(starts[agents[side]]);
+                let inside = (rs.0..=rg.0).contains(&st.0) && (rs.1..=rg.1).contains(&st.1);
+                !inside || (from_top && st.0 == rs.0) || (!from_top && st.1 == rs.1)
             };
-            if side_in
-                || (rs.1..=rg.1).any(|y| early((rg.0 + 1, y), -1))
-                || (rs.0..=rg.0).any(|x| early((x, rg.1 + 1), -1))
-            {
-                return false;
+            if !sound(top, true) || !sound(left, false) {
+                return None;
             }
-            let st = tr(starts[agents[side]]);
-            let inside = (rs.0..=rg.0).contains(&st.0) && (rs.1..=rg.1).contains(&st.1);
-            !inside || (from_top && st.0 == rs.0) || (!from_top && st.1 == rs.1)
-        };
-        if !sound(top, true) || !sound(left, false) {
-            return None;
         }
         let mut cardinal = 0;
         for (side, cells) in [(top, &top_cells), (left, &left_cells)] {
