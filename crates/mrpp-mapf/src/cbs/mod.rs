@@ -1144,6 +1144,11 @@ impl<'a> Search<'a> {
     /// top side (the other's through its left side); the two staircases cross at a cell, where
     /// both are at the same plane time. The split is kept only when both current paths are on
     /// their barriers. A barrier raises its agent's cost when every path of its MDD meets it.
+    ///
+    /// With [`Rectangle::Mdd`] (CBSH2-RTC's conditions) each segment is first shortened to its
+    /// points farthest from the conflict where the agent's MDD has one vertex, and (i)-(iv) are
+    /// not checked: every path at the current cost runs between those points as a staircase, so
+    /// pairs at the current costs on both barriers collide; longer paths are not covered.
     fn rectangle(&mut self, k: u32, c: &Conflict) -> Option<(u8, Split)> {
         let Kind::Vertex(v0) = c.kind else {
             return None;
