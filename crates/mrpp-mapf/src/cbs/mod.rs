@@ -71,10 +71,15 @@
 //! MDD singletons, which a longer path need not pass; mrpp keeps a split only where lower bounds
 //! on the agents' arrival times (distances from their starts) prove that any two paths on both
 //! barriers collide ([`Search::rectangle`] has the conditions and the argument). On MovingAI
-//! maps those conditions seldom hold (paths that bend around obstacles can reach part of the
-//! rectangle early): on den520d with 100 agents 312 of about 13,000 conflicts tried passed, none
-//! cardinal, and on random-32-32-20 it did not raise the proven bound within 20 s
-//! (docs/performance.md), hence off by default. `-p rectangle=mdd` takes CBSH2-RTC's conditions
+//! maps those conditions seldom hold on the whole rectangle (paths that bend around obstacles
+//! can reach part of it early): on den520d with 100 agents 312 of about 13,000 conflicts tried
+//! passed, none cardinal, and the search stalled at the bound 16,649. So where they fail,
+//! smaller rectangles are tried, their start corner moved a third, two thirds or all the way
+//! towards the conflict on each axis, largest first, and the conditions checked on each afresh
+//! (the argument holds on any rectangle they hold on): den520d with 100 agents is then solved
+//! at its optimum, 16,650, in 2,756 expansions (docs/performance.md; EECBS(1), whose rectangle
+//! reasoning is what solves it there, takes 1,138). Off by default: the 60 s comparison with
+//! EECBS on all its instances has not been re-run with it. `-p rectangle=mdd` takes CBSH2-RTC's conditions
 //! instead ([`Rectangle::Mdd`]): each agent's corners are the points of its monotone segment
 //! farthest from the conflict where its MDD has a single vertex, so every path at the current
 //! cost passes them and every conflict-free pair at the current costs is kept; pairs with a
@@ -124,7 +129,7 @@ pub const EECBS_NAME: &str = "eecbs";
 const RECTANGLE_PARAM: Param = Param {
     name: "rectangle",
     default: "false",
-    doc: "rectangle reasoning on grids: when no conflict is cardinal, a conflict of two agents crossing a rectangle on time splits on barriers, one per agent, instead of one cell (Li et al., AAAI 2019); used with MDD prioritisation. true = under mrpp's arrival-time conditions, which keep every conflict-free pair of paths (cbs/mod.rs, `Search::rectangle`; they seldom hold on MovingAI maps); mdd = CBSH2-RTC's conditions (the rectangle's corners are singletons of the agents' MDDs: every conflict-free pair at the current costs is kept, an optimal plan by the paper's claim, tested but not proven by mrpp); false = none (the default)",
+    doc: "rectangle reasoning on grids: when no conflict is cardinal, a conflict of two agents crossing a rectangle on time splits on barriers, one per agent, instead of one cell (Li et al., AAAI 2019); used with MDD prioritisation. true = under mrpp's arrival-time conditions, which keep every conflict-free pair of paths, on the rectangle or a smaller one towards the conflict (cbs/mod.rs, `Search::rectangle`; solves den520d random-1 with 100 agents, docs/performance.md); mdd = CBSH2-RTC's conditions (the rectangle's corners are singletons of the agents' MDDs: every conflict-free pair at the current costs is kept, an optimal plan by the paper's claim, tested but not proven by mrpp); false = none (the default)",
 };
 
 /// CBS in the planner registry.
@@ -1143,7 +1148,11 @@ impl<'a> Search<'a> {
     /// plane all the while it was in `R`, on a monotone staircase that entered `R` through its
     /// top side (the other's through its left side); the two staircases cross at a cell, where
     /// both are at the same plane time. The split is kept only when both current paths are on
-    /// their barriers. A barrier raises its agent's cost when every path of its MDD meets it.
+    /// their barriers. When the conditions fail on `R`, rectangles from a start corner moved
+    /// towards the conflict (a third, two thirds or all the way on each axis; `Rg` and so the
+    /// barriers' lines stay) are tried, largest first, each with (i)-(iv) checked on it: the
+    /// argument above needs nothing of `R` but the conditions. A barrier raises its agent's cost
+    /// when every path of its MDD meets it.
     ///
     /// With [`Rectangle::Mdd`] (CBSH2-RTC's conditions) each segment is first shortened to its
     /// points farthest from the conflict where the agent's MDD has one vertex, and (i)-(iv) are
@@ -1248,9 +1257,67 @@ impl<'a> Search<'a> {
         };
         let c0 = tr(v0);
         let kk = t0 as i64 - c0.0 - c0.1;
+        // The rectangle's start corner: with mrpp's conditions, Rs and, when they fail there,
+        // corners moved towards the conflict (a smaller rectangle, where the conditions are
+        // checked afresh: the argument holds for any rectangle they hold on), largest first.
+        let mut corners = vec![rs];
+        if !mdd_corners {
+            let steps = |lo: i64, hi: i64| {
+                let d = hi - lo;
+                let mut v = vec![lo, lo + (d + 2) / 3, lo + (2 * d + 2) / 3, hi];
+                v.dedup();
+                v
+            };
+            for x in steps(rs.0, c0.0.clamp(rs.0, rg.0)) {
+                for y in steps(rs.1, c0.1.clamp(rs.1, rg.1)) {
+                    if (x, y) != rs && (x, y) != rg {
+                        corners.push((x, y));
+                    }
+                }
+            }
+            corners[1..].sort_by_key(|&(x, y)| std::cmp::Reverse((rg.0 - x + 1) * (rg.1 - y + 1)));
+        }
+        for rs in corners {
+            if let Some(found) = self.rectangle_at(
+                k,
+                agents,
+                &paths,
+                (top, left),
+                rs,
+                rg,
+                (sx, sy),
+                kk,
+                mdd_corners,
+            ) {
+                return Some(found);
+            }
+        }
+        None
+    }
+
+    /// [`Search::rectangle`] on the rectangle from `rs` to `rg` (turned coordinates, signs
+    /// `sx`, `sy`; plane offset `kk`): the split and its cardinality, or `None` when the current
+    /// paths are not both on their barriers or (unless `mdd_corners`) mrpp's conditions fail.
+    #[allow(clippy::too_many_arguments)]
+    fn rectangle_at(
+        &mut self,
+        k: u32,
+        agents: [usize; 2],
+        paths: &[Path; 2],
+        (top, left): (usize, usize),
+        rs: (i64, i64),
+        rg: (i64, i64),
+        (sx, sy): (i64, i64),
+        kk: i64,
+        mdd_corners: bool,
+    ) -> Option<(u8, Split)> {
         if kk + rs.0 + rs.1 < 0 {
             return None;
         }
+        let tr = |v: VertexId| {
+            let (x, y) = self.problem.graph().coord(v).expect("a grid graph");
+            (sx * i64::from(x), sy * i64::from(y))
+        };
         let top_len = rg.1 - rs.1 + 1;
         let left_len = rg.0 - rs.0 + 1;
         if top_len > i64::from(u16::MAX) || left_len > i64::from(u16::MAX) {
