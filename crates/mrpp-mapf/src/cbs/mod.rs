@@ -78,9 +78,11 @@
 //! towards the conflict on each axis, largest first, and the conditions checked on each afresh
 //! (the argument holds on any rectangle they hold on): den520d with 100 agents is then solved
 //! at its optimum, 16,650, in 2,756 expansions (docs/performance.md; EECBS(1), whose rectangle
-//! reasoning is what solves it there, takes 1,138). Off by default: the 60 s comparison with
-//! EECBS on all its instances has not been re-run with it. `-p rectangle=mdd` takes CBSH2-RTC's conditions
-//! instead ([`Rectangle::Mdd`]): each agent's corners are the points of its monotone segment
+//! reasoning is what solves it there, takes 1,138). Off by default: of the 60 s comparison with
+//! EECBS only the 24 instances either solved before were re-run with it (every one EECBS solved
+//! is solved, median time 0.36x EECBS's, but random-32-32-20 random-4 with 60 agents, solved
+//! without it in 53 s, is not). `-p rectangle=mdd` takes CBSH2-RTC's conditions instead
+//! ([`Rectangle::Mdd`]): each agent's corners are the points of its monotone segment
 //! farthest from the conflict where its MDD has a single vertex, so every path at the current
 //! cost passes them and every conflict-free pair at the current costs is kept; pairs with a
 //! longer path are the paper's claim, which `tests/cbs_optimal.rs` checks against brute force
@@ -587,6 +589,17 @@ const CHECK_GROWTH: u64 = 4;
 const CHECK_TIME_SHARE: u32 = 4;
 const CHECK_MIN_TIME: Duration = Duration::from_millis(5);
 const CHECK_ITERATIONS: u64 = 1 << 20;
+
+/// What rectangle reasoning found on one rectangle ([`Search::rectangle_at`]).
+enum Barriers {
+    /// The split, and how many of its two barriers raise their agent's cost.
+    Split(u8, Split),
+    /// mrpp's conditions fail on this rectangle, or it is out of range; a smaller one may pass.
+    Unproven,
+    /// Neither this rectangle nor a smaller one (whose barriers are parts of these): the
+    /// current paths are not both on their barriers, or a distance table is missing.
+    Never,
+}
 
 /// A child that could not be made.
 enum Child {
@@ -1277,51 +1290,41 @@ impl<'a> Search<'a> {
             }
             corners[1..].sort_by_key(|&(x, y)| std::cmp::Reverse((rg.0 - x + 1) * (rg.1 - y + 1)));
         }
+        let starts = &self.problem.instance().starts;
+        let starts = [tr(starts[agents[0]]), tr(starts[agents[1]])];
         for rs in corners {
-            if let Some(found) = self.rectangle_at(
-                k,
-                agents,
-                &paths,
-                (top, left),
-                rs,
-                rg,
-                (sx, sy),
-                kk,
-                mdd_corners,
-            ) {
-                return Some(found);
+            match self.rectangle_at(k, agents, &paths, starts, (top, left), rs, rg, (sx, sy), kk) {
+                Barriers::Split(cardinal, split) => return Some((cardinal, split)),
+                Barriers::Unproven => {}
+                Barriers::Never => return None,
             }
         }
         None
     }
 
     /// [`Search::rectangle`] on the rectangle from `rs` to `rg` (turned coordinates, signs
-    /// `sx`, `sy`; plane offset `kk`): the split and its cardinality, or `None` when the current
-    /// paths are not both on their barriers or (unless `mdd_corners`) mrpp's conditions fail.
+    /// `sx`, `sy`, in which the agents' starts are `starts`; plane offset `kk`): see
+    /// [`Barriers`].
     #[allow(clippy::too_many_arguments)]
     fn rectangle_at(
         &mut self,
         k: u32,
         agents: [usize; 2],
         paths: &[Path; 2],
+        starts: [(i64, i64); 2],
         (top, left): (usize, usize),
         rs: (i64, i64),
         rg: (i64, i64),
         (sx, sy): (i64, i64),
         kk: i64,
-        mdd_corners: bool,
-    ) -> Option<(u8, Split)> {
+    ) -> Barriers {
         if kk + rs.0 + rs.1 < 0 {
-            return None;
+            return Barriers::Unproven;
         }
-        let tr = |v: VertexId| {
-            let (x, y) = self.problem.graph().coord(v).expect("a grid graph");
-            (sx * i64::from(x), sy * i64::from(y))
-        };
         let top_len = rg.1 - rs.1 + 1;
         let left_len = rg.0 - rs.0 + 1;
         if top_len > i64::from(u16::MAX) || left_len > i64::from(u16::MAX) {
-            return None;
+            return Barriers::Unproven;
         }
         let plane = |p: (i64, i64)| kk + p.0 + p.1;
         let barrier = |from: (i64, i64), along_x: bool, len: i64| Constraint::Barrier {
@@ -1356,17 +1359,21 @@ impl<'a> Search<'a> {
             cells.iter().any(|&(v, t)| at(p, t as usize) == v)
         };
         if !on(&paths[top], &top_cells) || !on(&paths[left], &left_cells) {
-            return None;
+            return Barriers::Never;
         }
         // mrpp's conditions (`Rectangle::Proven`, above).
-        if !mdd_corners {
-            let dists = [
-                self.start_distances(agents[0])?,
-                self.start_distances(agents[1])?,
-            ];
-            let grid = self.grid.get().and_then(Option::as_ref)?;
+        if self.settings.rectangle != Rectangle::Mdd {
+            let (Some(d0), Some(d1)) = (
+                self.start_distances(agents[0]),
+                self.start_distances(agents[1]),
+            ) else {
+                return Barriers::Never;
+            };
+            let dists = [d0, d1];
+            let Some(grid) = self.grid.get().and_then(Option::as_ref) else {
+                return Barriers::Never;
+            };
             let vertex = |p: (i64, i64)| grid.vertex_at(sx * p.0, sy * p.1);
-            let starts = &self.problem.instance().starts;
             let sound = |side: usize, from_top: bool| {
                 let d = &dists[side];
                 let early = |p: (i64, i64), slack: i64| {
@@ -1393,12 +1400,12 @@ impl<'a> Search<'a> {
                 {
                     return false;
                 }
-                let st = tr(starts[agents[side]]);
+                let st = starts[side];
                 let inside = (rs.0..=rg.0).contains(&st.0) && (rs.1..=rg.1).contains(&st.1);
                 !inside || (from_top && st.0 == rs.0) || (!from_top && st.1 == rs.1)
             };
             if !sound(top, true) || !sound(left, false) {
-                return None;
+                return Barriers::Unproven;
             }
         }
         let mut cardinal = 0;
@@ -1408,7 +1415,7 @@ impl<'a> Search<'a> {
                 cardinal += 1;
             }
         }
-        Some((cardinal, split))
+        Barriers::Split(cardinal, split)
     }
 
     /// The agent of a *target conflict* `c` at node `k`: the one already on its goal for good
