@@ -222,7 +222,7 @@ pub struct AvoidanceTable {
 
 impl AvoidanceTable {
     /// The table of `paths` except agent `skip`'s.
-    pub fn new(paths: &[std::rc::Rc<Vec<VertexId>>], skip: usize) -> Self {
+    pub fn new(paths: &[std::sync::Arc<Vec<VertexId>>], skip: usize) -> Self {
         // Sized for every entry at once: growing the maps one rehash at a time took a quarter
         // of CBS's time on den520d with 100 agents.
         let entries: usize = paths.iter().map(|p| p.len()).sum();
