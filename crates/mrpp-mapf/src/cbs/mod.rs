@@ -63,8 +63,8 @@
 //! counts the last constraint on an agent's goal in its heuristic (the agent cannot finish
 //! before it: EECBS's *holding time*); both cut CBS's time about in half on random-32-32-20.
 //!
-//! *Rectangle reasoning* (Li, Harabor, Stuckey, Ma, Koenig, AAAI 2019; `-p rectangle=true`, off
-//! by default): when a node has no cardinal conflict, a vertex conflict of two agents crossing a
+//! *Rectangle reasoning* (Li, Harabor, Stuckey, Ma, Koenig, AAAI 2019; `-p rectangle=true`, the
+//! default): when a node has no cardinal conflict, a vertex conflict of two agents crossing a
 //! rectangle of the grid on time is split on *barriers* (a row or column of the rectangle, each
 //! cell at the time the agent would reach it), one per agent, which rules out every pair of
 //! their crossing paths at once. CBSH2-RTC takes the rectangle's corners from the current paths'
@@ -77,12 +77,12 @@
 //! smaller rectangles are tried, their start corner moved a third, two thirds or all the way
 //! towards the conflict on each axis, largest first, and the conditions checked on each afresh
 //! (the argument holds on any rectangle they hold on): den520d with 100 agents is then solved
-//! at its optimum, 16,650, in 2,756 expansions (docs/performance.md; EECBS(1), whose rectangle
-//! reasoning is what solves it there, takes 1,138). Off by default: of the 60 s comparison with
-//! EECBS only the 24 instances either solved before were re-run with it (every one EECBS solved
-//! is solved, median time 0.36x EECBS's, but random-32-32-20 random-4 with 60 agents, solved
-//! without it in 53 s, is not). `-p rectangle=mdd` takes CBSH2-RTC's conditions instead
-//! ([`Rectangle::Mdd`]): each agent's corners are the points of its monotone segment
+//! at its optimum, 16,650, in 2,070 expansions (docs/performance.md; EECBS(1), whose rectangle
+//! reasoning is what solves it there, takes 1,138). A rectangle split replaces the chosen
+//! conflict only when it is more cardinal ([`Search::choose`]). On the 49 instances of the 60 s
+//! comparison with EECBS(1) (`bench/configs/cbs-eecbs-60s.toml`) mrpp then solves every instance
+//! EECBS solves and two more, in a median 0.32x EECBS's time, so it is the default.
+//! `-p rectangle=mdd` takes CBSH2-RTC's conditions instead ([`Rectangle::Mdd`]): each agent's corners are the points of its monotone segment
 //! farthest from the conflict where its MDD has a single vertex, so every path at the current
 //! cost passes them and every conflict-free pair at the current costs is kept; pairs with a
 //! longer path are the paper's claim, which `tests/cbs_optimal.rs` checks against brute force
