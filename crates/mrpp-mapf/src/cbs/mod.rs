@@ -1102,6 +1102,10 @@ impl<'a> Search<'a> {
             if self.target_holder(k, c).is_some() {
                 continue;
             }
+            // Each try may build two breadth-first tables over the whole map.
+            if self.ctx.deadline.expired() {
+                break;
+            }
             if let Some((cardinal, split)) = self.rectangle(k, c) {
                 let r = 2 - cardinal;
                 if r < rank.0 && found.as_ref().is_none_or(|(fr, ..)| r < *fr) {
