@@ -229,8 +229,8 @@ fn cbs_and_eecbs_match_brute_force() {
 /// Beyond brute force's reach: on 24 seeded 7 x 7 grids with 20 % walls and 6..=14 agents, every
 /// optimal variant (heuristic none, CG, WDG; target reasoning on and off; disjoint and standard
 /// splitting; all with mrpp's rectangle conditions, the default, and with none and CG also
-/// without rectangle reasoning and with CBSH2-RTC's; EECBS(1)) that returns within 1 s returns the same sum of costs, and the default solves at
-/// least 80 % of them.
+/// without rectangle reasoning and with CBSH2-RTC's; EECBS(1)) that returns within 1 s returns
+/// the same sum of costs, and the default solves at least 80 % of them.
 #[test]
 fn optimal_variants_agree_on_larger_grids() {
     use mrpp_grid::cbs::{Heuristic, Rectangle, Settings};

@@ -82,13 +82,14 @@
 //! conflict only when it is more cardinal ([`Search::choose`]). On the 49 instances of the 60 s
 //! comparison with EECBS(1) (`bench/configs/cbs-eecbs-60s.toml`) mrpp then solves every instance
 //! EECBS solves and two more, in a median 0.32x EECBS's time, so it is the default.
-//! `-p rectangle=mdd` takes CBSH2-RTC's conditions instead ([`Rectangle::Mdd`]): each agent's corners are the points of its monotone segment
-//! farthest from the conflict where its MDD has a single vertex, so every path at the current
-//! cost passes them and every conflict-free pair at the current costs is kept; pairs with a
-//! longer path are the paper's claim, which `tests/cbs_optimal.rs` checks against brute force
-//! and the other variants. On den520d with 100 agents it split 3,468 conflicts on barriers but
-//! still ended at the bound 16,649 after 60 s. Corridor reasoning (Li et al., ICAPS 2020) is
-//! not implemented: on den520d no split conflict lay in a corridor.
+//! `-p rectangle=mdd` takes CBSH2-RTC's conditions instead ([`Rectangle::Mdd`]): each agent's
+//! corners are the points of its monotone segment farthest from the conflict where its MDD has a
+//! single vertex, so every path at the current cost passes them and every conflict-free pair at the
+//! current costs is kept; pairs with a longer path are the paper's claim, which
+//! `tests/cbs_optimal.rs` checks against brute force and the other variants. On den520d with 100
+//! agents it split 3,468 conflicts on barriers but still ended at the bound 16,649 after 60 s.
+//! Corridor reasoning (Li et al., ICAPS 2020) is not implemented: on den520d no split conflict lay
+//! in a corridor.
 //!
 //! *Unsolvable instances*: the constraint tree of an instance without a plan is infinite, and
 //! CBS grew to 4.6 GB in 60 s on two agents swapping the ends of a 10-cell corridor. After 256
@@ -255,8 +256,8 @@ pub struct Settings {
 pub enum Rectangle {
     /// No rectangle reasoning (`false`).
     Off,
-    /// mrpp's conditions (`true`, the default): lower bounds on the agents' arrival times prove that every
-    /// pair of conflict-free paths, of any costs, stays in a child.
+    /// mrpp's conditions (`true`, the default): lower bounds on the agents' arrival times prove
+    /// that every pair of conflict-free paths, of any costs, stays in a child.
     Proven,
     /// CBSH2-RTC's (`mdd`; Li, Harabor, Stuckey, Ma, Koenig, AAAI 2019, and AIJ 2021, rectangle
     /// reasoning with MDDs): the rectangle's corners are points of the current paths where the
@@ -463,7 +464,7 @@ struct Node {
     parent: u32,
     /// The constraint this node added (none at the root).
     added: Option<(usize, Constraint)>,
-    paths: Vec<Arc<Vec<VertexId>>>,
+    paths: Vec<Path>,
     lbs: Vec<u64>,
     cost: u64,
     lb: u64,
@@ -693,7 +694,7 @@ impl<'a> Search<'a> {
         &self,
         i: usize,
         list: &[Constraint],
-        paths: &[Arc<Vec<VertexId>>],
+        paths: &[Path],
     ) -> Result<Option<Found>, Unsolved> {
         self.plan_agent_avoiding(i, list, &AvoidanceTable::new(paths, i))
     }
@@ -728,7 +729,7 @@ impl<'a> Search<'a> {
 
     fn root(&mut self) -> Result<Node, Unsolved> {
         let n = self.n();
-        let mut paths: Vec<Arc<Vec<VertexId>>> = (0..n).map(|_| Arc::new(Vec::new())).collect();
+        let mut paths: Vec<Path> = (0..n).map(|_| Arc::new(Vec::new())).collect();
         let mut lbs = vec![0u64; n];
         for i in 0..n {
             // Each agent's avoidance table reads every path so far: thousands of agents make
