@@ -764,7 +764,11 @@ fn write_outputs<P: Problem>(
             text = env.to_json();
         }
         write_atomic(out, &text)?;
-        say!("plan written to {}", out.display());
+        if outcome.is_ok() {
+            say!("plan written to {}", out.display());
+        } else {
+            say!("run record (no plan) written to {}", out.display());
+        }
     }
     match (&req.save_program, program) {
         (Some(path), Some(p)) => {
