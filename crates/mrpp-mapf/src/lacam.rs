@@ -57,12 +57,15 @@
 //!
 //! mrpp's extension (`-p refine`, sum of loss and sum of costs): LaCAM* alone improves large
 //! instances slowly, so between its search rounds (every 8 iterations) the best plan also goes
-//! through 16 steps of large-neighbourhood search ([`crate::lns`], MAPF-LNS); a LaCAM* plan
+//! through 16 steps of large-neighbourhood search ([`crate::lns`], MAPF-LNS; with `threads`,
+//! 64 steps of each thread's chain, merged); a LaCAM* plan
 //! better on the LNS's measure replaces the LNS plan. The returned plan is the better of the two
 //! on the objective (sum of loss: ties to the lower sum of costs), and `final_cost` is its value.
 //! lacam3 refines its plans the same way (Engineering LaCAM*, AAMAS 2024). `refine=lns` makes
 //! the LNS lower the sum of costs; `refine=lns_loss` keeps only its steps that lower the sum of
-//! loss (its re-planned paths are earliest-arrival ones). Neither wins everywhere (measured after
+//! loss (its re-planned paths minimise their own loss, as lacam3's refiner's do; until
+//! 2026-12-06 they were earliest-arrival ones, when the measurements below were made). Neither
+//! wins everywhere (measured after
 //! 30 s, docs/benchmark.md): on random-32-32-20 and den312d with 400 agents (16-49% of the
 //! vertices covered) `lns` ended 14-24% lower in sum of loss, while on den520d,
 //! warehouse-20-40-10-2-1 and Paris_1_256 with 700-1,000 agents (1.5-4.1% covered) `lns_loss`
@@ -611,7 +614,12 @@ fn search_within(
             && iterations.is_multiple_of(LNS_EVERY)
         {
             {
-                if l.steps(LNS_STEPS, ctx.deadline) > 0 {
+                let rounds = if lacam.threads > 1 {
+                    LNS_STEPS * LNS_CHAIN_FACTOR
+                } else {
+                    LNS_STEPS
+                };
+                if l.steps(rounds, ctx.deadline) > 0 {
                     // What the LNS lowers (its key's first value), named as such.
                     let cost = l.key().0;
                     let what = if l.lowers_loss() {
@@ -916,6 +924,12 @@ pub(crate) fn proven_unsolvable(
 /// one every 64; a round every iteration was no better.)
 const LNS_EVERY: u64 = 8;
 const LNS_STEPS: usize = 16;
+/// With several threads, each LNS chain runs this many times `LNS_STEPS` steps between two
+/// merges: the threads wait for the slowest chain at a merge, and step times vary widely. On
+/// den520d with 1,000 agents (`-p threads=2 -t 30`, seeds 0-2, a temporary timer) one thread
+/// waited 16-27% of the LNS's time at 16 steps per chain and 12-17% at 64, and the chains took
+/// 5,900-6,300 and 6,400-9,000 steps in all.
+const LNS_CHAIN_FACTOR: usize = 4;
 
 /// Whether constraint `c` extended by the agent now at `v` going to `u` keeps its agents apart:
 /// `u` is no other constrained agent's next vertex, and no constrained agent moves from `u` to

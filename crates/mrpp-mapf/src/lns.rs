@@ -9,23 +9,38 @@
 //! **What it lowers** ([`Lns::new`]'s `loss`): the sum of costs, or the sum of loss (lacam3's
 //! objective: each agent's steps except those it stays on its goal, so an agent that waits on its
 //! goal and steps aside later is not charged for the waits). With sum of loss a step keeps the
-//! new paths when their summed loss is lower, or equal with a sum of costs not larger; the
-//! searches still find earliest-arrival paths, whose loss is at least their goal distance (the
-//! same lower bound prunes both).
+//! new paths when their summed loss is lower, or equal with a sum of costs not larger, and the
+//! re-planning searches minimise each path's loss ([`sipp_loss`], as lacam3's refiner does);
+//! with sum of costs they find earliest arrivals ([`sipp`]).
 //!
-//! Neighbourhoods alternate between *random* (uniform agents) and *agent-based* (the most delayed
-//! agent, cost minus distance, among a random sample, with the agents whose paths visit the cells
-//! of its shortest route), as MAPF-LNS does. The plan stays valid after every step: the
-//! re-planned paths obey the reservation table that holds every other path, with the rules of
-//! the validator (stay at the goal, following allowed).
+//! **Neighbourhoods** are MAPF-LNS's three destroy heuristics, drawn adaptively (its ALNS,
+//! Sec. 4.3: each drawn with probability proportional to a weight that follows the objective
+//! each of its steps removed per agent, reaction factor 0.01): *random* (uniform agents),
+//! *agent-based* (the most delayed agent, objective minus goal distance, among a random sample of
+//! 32, with agents whose paths visit the cells of its shortest route) and *intersection* (agents
+//! visiting a random vertex of degree 3 or more and the intersections nearest it). The plan
+//! stays valid after every step: the re-planned paths obey the reservation table that holds
+//! every other path, with the rules of the validator (stay at the goal, following allowed).
+//!
+//! **Threads** ([`Lns::with_threads`]): with `t` threads, [`Lns::steps`] runs `t` chains of
+//! steps at once, each on its own copy of the plan with its own seeded generator and weights, and
+//! then merges them: the first chain's steps stand, and each other chain's kept steps are
+//! replayed in order onto the result when none of their agents was moved by another chain and
+//! their new paths fit and do not raise the key there. Every chain then restarts from the merged
+//! plan. Chains replace one repair per thread in lockstep rounds, which wait for the slower of
+//! their repairs (repair times vary by orders of magnitude): on den520d with 1,000 agents, 30 s,
+//! lockstep rounds at two threads took 3,680 steps against 3,152 at one; chains took
+//! 5,900-9,000 against 4,064 (with [`sipp_loss`]'s reused tables, which also removed allocator
+//! traffic between the threads). For a seed and a thread count the result depends on the rounds
+//! run, not on how the threads are scheduled.
 
-use rand::SeedableRng;
 use rand::seq::{IndexedRandom, SliceRandom};
+use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use rustc_hash::FxHashSet;
+use rustc_hash::{FxHashMap, FxHashSet};
 
 use mrpp_core::mapf::search::distance::GoalDistances;
-use mrpp_core::mapf::search::sipp::sipp;
+use mrpp_core::mapf::search::sipp::{sipp, sipp_loss};
 use mrpp_core::mapf::search::spacetime::{Query, Reservations, Search};
 use mrpp_core::{Deadline, Graph, VertexId};
 
@@ -33,27 +48,62 @@ use mrpp_core::{Deadline, Graph, VertexId};
 /// group's budget).
 const SLACK: u32 = 8;
 
+/// MAPF-LNS's reaction factor `γ` of the adaptive weights (Li et al., IJCAI 2021, Sec. 4.3).
+const REACTION: f64 = 0.01;
+
 /// A plan being improved.
 pub(crate) struct Lns<'a> {
+    cx: Shared<'a>,
+    /// The plan, and the chain the calling thread runs.
+    main: Chain,
+    /// The chains of the other threads (`threads - 1`), equal to `main` between rounds.
+    others: Vec<Chain>,
+    /// Steps that lowered the plan's key and stood (kept in a chain, and merged).
+    improved: u64,
+}
+
+/// What every chain reads: the instance, its distance tables, what is lowered, the neighbourhood
+/// size and the map's intersections.
+struct Shared<'a> {
     graph: &'a Graph,
     goals: &'a [VertexId],
     dist: &'a GoalDistances<'a>,
-    paths: Vec<Vec<VertexId>>,
-    res: Reservations,
-    rng: ChaCha8Rng,
-    steps: u64,
-    improved: u64,
-    /// Neighbourhood size.
-    k: usize,
     /// Lower the sum of loss (module doc) instead of the sum of costs.
     loss: bool,
-    /// Copies of `res` for the other workers of [`Lns::steps`] (`threads - 1` of them), kept
-    /// equal to it between rounds.
-    replicas: Vec<Reservations>,
+    /// Neighbourhood size.
+    k: usize,
+    /// The vertices of degree 3 or more (where intersection neighbourhoods start).
+    intersections: Vec<VertexId>,
 }
 
-/// What a worker of a step needs to read: the graph, the goals and their distance tables, the
-/// current plan, and whether the sum of loss is lowered.
+/// One thread's copy of the plan and its own search state.
+#[derive(Clone)]
+struct Chain {
+    paths: Vec<Vec<VertexId>>,
+    res: Reservations,
+    /// Per vertex, the agents whose current paths visit it (each once).
+    visitors: Vec<Vec<u32>>,
+    rng: ChaCha8Rng,
+    /// The adaptive weights of the neighbourhoods, indexed by [`Destroy`].
+    weights: [f64; 3],
+    steps: u64,
+    improved: u64,
+    /// The steps kept since the last merge: agents and their new paths.
+    log: Vec<(Vec<usize>, Vec<Vec<VertexId>>)>,
+}
+
+/// MAPF-LNS's destroy heuristics ([`Chain::neighbourhood`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Destroy {
+    /// Agents drawn uniformly.
+    Random = 0,
+    /// The most delayed agent of a sample and agents on its shortest route.
+    AgentBased = 1,
+    /// Agents that visit an intersection and the intersections around it, breadth first.
+    Intersection = 2,
+}
+
+/// What a repair reads: the instance and the current plan.
 struct View<'v> {
     graph: &'v Graph,
     goals: &'v [VertexId],
@@ -73,6 +123,28 @@ fn trimmed(mut p: Vec<VertexId>) -> Vec<VertexId> {
     p
 }
 
+/// Adds `agent` to the visitors of the vertices of `path`.
+fn enrol(visitors: &mut [Vec<u32>], agent: usize, path: &[VertexId]) {
+    let a = agent as u32;
+    for &v in path {
+        let list = &mut visitors[v as usize];
+        if !list.contains(&a) {
+            list.push(a);
+        }
+    }
+}
+
+/// Removes `agent` from the visitors of the vertices of `path`.
+fn withdraw(visitors: &mut [Vec<u32>], agent: usize, path: &[VertexId]) {
+    let a = agent as u32;
+    for &v in path {
+        let list = &mut visitors[v as usize];
+        if let Some(i) = list.iter().position(|&x| x == a) {
+            list.swap_remove(i);
+        }
+    }
+}
+
 impl<'a> Lns<'a> {
     /// Starts from the valid plan `paths` (one path per agent, from its start to its goal).
     pub(crate) fn new(
@@ -85,34 +157,55 @@ impl<'a> Lns<'a> {
     ) -> Self {
         let paths: Vec<Vec<VertexId>> = paths.into_iter().map(trimmed).collect();
         let mut res = Reservations::new(graph.num_vertices());
-        for p in &paths {
+        let mut visitors = vec![Vec::new(); graph.num_vertices()];
+        for (i, p) in paths.iter().enumerate() {
             res.reserve_path(p, 0, true);
+            enrol(&mut visitors, i, p);
         }
+        let intersections = (0..graph.num_vertices() as VertexId)
+            .filter(|&v| graph.neighbors(v).len() >= 3)
+            .collect();
         Lns {
-            graph,
-            goals,
-            dist,
-            k: paths.len().min(8),
-            paths,
-            res,
-            rng: ChaCha8Rng::seed_from_u64(seed),
-            steps: 0,
+            cx: Shared {
+                graph,
+                goals,
+                dist,
+                loss,
+                k: paths.len().min(8),
+                intersections,
+            },
+            main: Chain {
+                paths,
+                res,
+                visitors,
+                rng: ChaCha8Rng::seed_from_u64(seed),
+                weights: [1.0; 3],
+                steps: 0,
+                improved: 0,
+                log: Vec::new(),
+            },
+            others: Vec::new(),
             improved: 0,
-            loss,
-            replicas: Vec::new(),
         }
     }
 
-    /// Re-plans `threads` neighbourhoods at once in [`Lns::steps`] (default 1).
+    /// Runs `threads` chains at once in [`Lns::steps`] (default 1); chain `j > 0` draws from
+    /// its own generator, seeded from the first's.
     pub(crate) fn with_threads(mut self, threads: usize) -> Self {
-        self.replicas = (1..threads.max(1)).map(|_| self.res.clone()).collect();
+        self.others = (1..threads.max(1))
+            .map(|_| {
+                let mut c = self.main.clone();
+                c.rng = ChaCha8Rng::seed_from_u64(self.main.rng.random());
+                c
+            })
+            .collect();
         self
     }
 
     /// The current plan's cost on what it lowers: (sum of loss, sum of costs) with `loss`, else
     /// (sum of costs, 0); lower is better.
     pub(crate) fn key(&self) -> (u64, u64) {
-        self.key_of(&self.paths, 0..self.paths.len())
+        self.key_of(&self.main.paths, 0..self.main.paths.len())
     }
 
     /// [`Self::key`] of another plan of the same agents (e.g. the search's; trailing waits on
@@ -128,219 +221,318 @@ impl<'a> Lns<'a> {
         paths: &[Vec<VertexId>],
         agents: impl IntoIterator<Item = usize>,
     ) -> (u64, u64) {
-        key_of(self.goals, self.loss, paths, agents)
+        key_of(self.cx.goals, self.cx.loss, paths, agents)
     }
 
     /// Whether it lowers the sum of loss (else the sum of costs).
     pub(crate) fn lowers_loss(&self) -> bool {
-        self.loss
+        self.cx.loss
     }
 
-    /// Steps taken and steps that lowered the plan's cost.
+    /// Steps taken (by every chain) and steps that lowered the plan's cost.
     pub(crate) fn counts(&self) -> (u64, u64) {
-        (self.steps, self.improved)
+        let steps = self.main.steps + self.others.iter().map(|c| c.steps).sum::<u64>();
+        (steps, self.improved)
     }
 
     /// The current plan.
     pub(crate) fn paths(&self) -> &[Vec<VertexId>] {
-        &self.paths
+        &self.main.paths
     }
 
     /// Replaces the plan by `paths` (e.g. a better one found elsewhere).
     pub(crate) fn reset(&mut self, paths: Vec<Vec<VertexId>>) {
-        for p in &self.paths {
-            self.res.release_path(p, 0, true);
+        let m = &mut self.main;
+        for (i, p) in m.paths.iter().enumerate() {
+            m.res.release_path(p, 0, true);
+            withdraw(&mut m.visitors, i, p);
         }
-        self.paths = paths.into_iter().map(trimmed).collect();
-        for p in &self.paths {
-            self.res.reserve_path(p, 0, true);
+        m.paths = paths.into_iter().map(trimmed).collect();
+        for (i, p) in m.paths.iter().enumerate() {
+            m.res.reserve_path(p, 0, true);
+            enrol(&mut m.visitors, i, p);
         }
-        for r in &mut self.replicas {
-            r.clone_from(&self.res);
+        for c in &mut self.others {
+            c.paths.clone_from(&m.paths);
+            c.res.clone_from(&m.res);
+            c.visitors.clone_from(&m.visitors);
         }
     }
 
-    /// The agents of the next neighbourhood.
-    fn neighbourhood(&mut self) -> Vec<usize> {
-        let n = self.paths.len();
-        let mut chosen: Vec<usize> = Vec::new();
-        if self.steps.is_multiple_of(2) {
-            // Agent-based: the most delayed agent of a sample, and the agents on its route.
-            let sample: Vec<usize> = (0..n)
-                .collect::<Vec<_>>()
-                .sample(&mut self.rng, n.min(32))
-                .copied()
-                .collect();
-            let delay = |i: usize| {
-                let p = &self.paths[i];
-                let cost = if self.loss {
-                    path_loss(p, self.goals[i])
-                } else {
-                    p.len() as u64 - 1
-                };
-                cost.saturating_sub(u64::from(self.dist.get(i, p[0])))
-            };
-            if let Some(&a) = sample
-                .iter()
-                .max_by_key(|&&i| (delay(i), std::cmp::Reverse(i)))
-                && delay(a) > 0
-            {
-                chosen.push(a);
-                // A shortest route of `a`, down its distance table.
-                let mut route: FxHashSet<VertexId> = FxHashSet::default();
-                let mut v = self.paths[a][0];
-                route.insert(v);
-                while self.dist.get(a, v) > 0 {
-                    let d = self.dist.get(a, v);
-                    v = *self
-                        .graph
-                        .neighbors(v)
-                        .iter()
-                        .find(|&&w| self.dist.get(a, w) + 1 == d)
-                        .expect("a BFS table always has a predecessor");
-                    route.insert(v);
-                }
-                let mut others: Vec<usize> = (0..n)
-                    .filter(|&j| j != a && self.paths[j].iter().any(|v| route.contains(v)))
-                    .collect();
-                others.shuffle(&mut self.rng);
-                chosen.extend(others.into_iter().take(self.k - 1));
-            }
-        }
-        if chosen.len() < 2 {
-            chosen = (0..n)
-                .collect::<Vec<_>>()
-                .sample(&mut self.rng, self.k)
-                .copied()
-                .collect();
-        }
-        chosen
-    }
-
-    /// One destroy-and-repair step; true when the plan's cost ([`Self::key`]) dropped.
+    /// One destroy-and-repair step of the first chain; true when the plan's cost
+    /// ([`Self::key`]) dropped.
     pub(crate) fn step(&mut self, deadline: Deadline) -> bool {
-        self.steps += 1;
-        let mut group = self.neighbourhood();
-        group.shuffle(&mut self.rng);
-        let view = View {
-            graph: self.graph,
-            goals: self.goals,
-            dist: self.dist,
-            paths: &self.paths,
-            loss: self.loss,
-        };
-        let Some((new, improved)) = view.repair(&mut self.res, &group, deadline) else {
-            return false;
-        };
-        self.improved += u64::from(improved);
-        for (&i, p) in group.iter().zip(new) {
-            self.res.release_path(&self.paths[i], 0, true);
-            self.paths[i] = p;
-        }
-        for &i in &group {
-            self.res.reserve_path(&self.paths[i], 0, true);
-        }
-        improved
+        let lowered = self.main.step(&self.cx, deadline);
+        self.main.log.clear();
+        self.improved += u64::from(lowered);
+        lowered
     }
 
-    /// `rounds` rounds of steps; the number that lowered the plan's cost. With one thread
-    /// ([`Lns::with_threads`]) each round is one [`Lns::step`]. With `t` threads a round draws
-    /// `t` neighbourhoods (in order, from the one seeded generator), repairs them at once on `t`
-    /// threads (this one and `t - 1` scoped ones), each
-    /// against its own copy of the reservation table and the plan as it was at the round's
-    /// start, and then keeps the repairs in draw order: one whose agents another kept repair of
-    /// the round already moved is dropped, and one whose new paths now collide with those is
-    /// dropped too. So for a seed and a thread count the result depends on the rounds run, not
-    /// on how the threads are scheduled.
+    /// `rounds` steps in each chain (module doc), then a merge; the number of steps that lowered
+    /// the plan's cost and stood. With one thread, `rounds` [`Lns::step`]s.
     pub(crate) fn steps(&mut self, rounds: usize, deadline: Deadline) -> u64 {
-        let threads = self.replicas.len() + 1;
-        let mut lowered = 0;
-        for _ in 0..rounds {
-            if threads == 1 {
-                lowered += u64::from(self.step(deadline));
-                continue;
+        if self.others.is_empty() {
+            return (0..rounds).map(|_| u64::from(self.step(deadline))).sum();
+        }
+        let cx = &self.cx;
+        // Plain scoped threads, not a rayon pool: a rayon worker that waits for another pool
+        // runs its own pool's queued jobs meanwhile, which in `mrpp bench` are other runs,
+        // started inside this one.
+        let run = |c: &mut Chain| {
+            (0..rounds)
+                .map(|_| u64::from(c.step(cx, deadline)))
+                .sum::<u64>()
+        };
+        let main = &mut self.main;
+        let mut lowered = std::thread::scope(|sc| {
+            let handles: Vec<_> = self
+                .others
+                .iter_mut()
+                .map(|c| sc.spawn(move || run(c)))
+                .collect();
+            let own = run(main);
+            for h in handles {
+                h.join().unwrap_or_else(|e| std::panic::resume_unwind(e));
             }
-            let groups: Vec<Vec<usize>> = (0..threads)
-                .map(|_| {
-                    self.steps += 1;
-                    let mut g = self.neighbourhood();
-                    g.shuffle(&mut self.rng);
-                    g
-                })
-                .collect();
-            let view = View {
-                graph: self.graph,
-                goals: self.goals,
-                dist: self.dist,
-                paths: &self.paths,
-                loss: self.loss,
-            };
-            let mut tables: Vec<&mut Reservations> = std::iter::once(&mut self.res)
-                .chain(self.replicas.iter_mut())
-                .collect();
-            // Plain scoped threads, not a rayon pool: a rayon worker that waits for another
-            // pool runs its own pool's queued jobs meanwhile, which in `mrpp bench` are other
-            // runs, started inside this one.
-            let view = &view;
-            let repairs: Vec<Option<(Vec<Vec<VertexId>>, bool)>> = std::thread::scope(|sc| {
-                let mut work = tables.iter_mut().zip(&groups);
-                let (own_res, own_group) = work.next().expect("at least one worker");
-                let others: Vec<_> = work
-                    .map(|(res, group)| sc.spawn(move || view.repair(res, group, deadline)))
-                    .collect();
-                let own = view.repair(own_res, own_group, deadline);
-                std::iter::once(own)
-                    .chain(
-                        others
-                            .into_iter()
-                            .map(|h| h.join().unwrap_or_else(|e| std::panic::resume_unwind(e))),
-                    )
-                    .collect()
-            });
-            // Keep them in draw order.
-            let mut moved: FxHashSet<usize> = FxHashSet::default();
-            let mut kept: Vec<(usize, Vec<VertexId>, Vec<VertexId>)> = Vec::new();
-            for (group, repair) in groups.iter().zip(repairs) {
-                let Some((new, improved)) = repair else {
-                    continue;
-                };
-                if group.iter().any(|i| moved.contains(i)) {
+            own
+        });
+        // Merge: who moved each agent this round (0: the first chain).
+        let mut owner: FxHashMap<usize, usize> = FxHashMap::default();
+        for (group, _) in self.main.log.drain(..) {
+            for i in group {
+                owner.insert(i, 0);
+            }
+        }
+        let mut touched: Vec<Vec<usize>> = Vec::with_capacity(self.others.len());
+        for (j, c) in self.others.iter_mut().enumerate() {
+            let j = j + 1;
+            let mut mine = Vec::new();
+            for (group, new) in c.log.drain(..) {
+                mine.extend_from_slice(&group);
+                if group.iter().any(|i| owner.get(i).is_some_and(|&o| o != j)) {
                     continue;
                 }
-                for &i in group {
-                    self.res.release_path(&self.paths[i], 0, true);
+                let m = &mut self.main;
+                let old_key = key_of(
+                    cx.goals,
+                    cx.loss,
+                    &group
+                        .iter()
+                        .map(|&i| m.paths[i].clone())
+                        .collect::<Vec<_>>(),
+                    group.iter().copied(),
+                );
+                let new_key = key_of(cx.goals, cx.loss, &new, group.iter().copied());
+                if new_key > old_key {
+                    continue;
                 }
-                if !kept.is_empty() && !fits(&mut self.res, &new) {
-                    for &i in group {
-                        self.res.reserve_path(&self.paths[i], 0, true);
+                for &i in &group {
+                    m.res.release_path(&m.paths[i], 0, true);
+                }
+                if !fits(&mut m.res, &new) {
+                    for &i in &group {
+                        m.res.reserve_path(&m.paths[i], 0, true);
                     }
                     continue;
                 }
                 for (&i, p) in group.iter().zip(new) {
-                    self.res.reserve_path(&p, 0, true);
-                    let old = std::mem::replace(&mut self.paths[i], p);
-                    kept.push((i, old, self.paths[i].clone()));
-                    moved.insert(i);
+                    m.res.reserve_path(&p, 0, true);
+                    withdraw(&mut m.visitors, i, &m.paths[i]);
+                    enrol(&mut m.visitors, i, &p);
+                    m.paths[i] = p;
+                    owner.insert(i, j);
                 }
-                self.improved += u64::from(improved);
-                lowered += u64::from(improved);
+                lowered += u64::from(new_key < old_key);
             }
-            // The other tables take the same changes.
-            for r in &mut self.replicas {
-                for (_, old, _) in &kept {
-                    r.release_path(old, 0, true);
-                }
-                for (_, _, new) in &kept {
-                    r.reserve_path(new, 0, true);
-                }
+            touched.push(mine);
+        }
+        // Every other chain restarts from the merged plan.
+        for (c, mine) in self.others.iter_mut().zip(touched) {
+            let mut diff: Vec<usize> = owner.keys().copied().chain(mine).collect();
+            diff.sort_unstable();
+            diff.dedup();
+            diff.retain(|&i| c.paths[i] != self.main.paths[i]);
+            for &i in &diff {
+                c.res.release_path(&c.paths[i], 0, true);
+                withdraw(&mut c.visitors, i, &c.paths[i]);
+            }
+            for &i in &diff {
+                c.paths[i].clone_from(&self.main.paths[i]);
+                c.res.reserve_path(&c.paths[i], 0, true);
+                enrol(&mut c.visitors, i, &c.paths[i]);
             }
         }
+        self.improved += lowered;
         lowered
     }
 }
 
+impl Chain {
+    /// The agents of the next neighbourhood and the heuristic that drew them: drawn with
+    /// probability proportional to its weight (adaptive LNS, MAPF-LNS Sec. 4.3); a heuristic
+    /// that finds fewer than two agents falls back to random.
+    fn neighbourhood(&mut self, cx: &Shared) -> (Vec<usize>, Destroy) {
+        let n = self.paths.len();
+        let total: f64 = self.weights.iter().sum();
+        let mut x = self.rng.random::<f64>() * total;
+        let mut kind = Destroy::Intersection;
+        for (k, d) in [Destroy::Random, Destroy::AgentBased]
+            .into_iter()
+            .enumerate()
+        {
+            if x < self.weights[k] {
+                kind = d;
+                break;
+            }
+            x -= self.weights[k];
+        }
+        let mut chosen = match kind {
+            Destroy::Random => Vec::new(),
+            Destroy::AgentBased => self.agent_based(cx),
+            Destroy::Intersection => self.intersection(cx),
+        };
+        if chosen.len() < 2 {
+            chosen = (0..n)
+                .collect::<Vec<_>>()
+                .sample(&mut self.rng, cx.k)
+                .copied()
+                .collect();
+        }
+        (chosen, kind)
+    }
+
+    /// Agent-based neighbourhood: the most delayed agent (objective minus goal distance) of a
+    /// sample of 32, with agents whose paths visit the cells of one of its shortest routes;
+    /// empty when no sampled agent is delayed.
+    fn agent_based(&mut self, cx: &Shared) -> Vec<usize> {
+        let n = self.paths.len();
+        let sample: Vec<usize> = (0..n)
+            .collect::<Vec<_>>()
+            .sample(&mut self.rng, n.min(32))
+            .copied()
+            .collect();
+        let delay = |i: usize| {
+            let p = &self.paths[i];
+            let cost = if cx.loss {
+                path_loss(p, cx.goals[i])
+            } else {
+                p.len() as u64 - 1
+            };
+            cost.saturating_sub(u64::from(cx.dist.get(i, p[0])))
+        };
+        let Some(&a) = sample
+            .iter()
+            .max_by_key(|&&i| (delay(i), std::cmp::Reverse(i)))
+        else {
+            return Vec::new();
+        };
+        if delay(a) == 0 {
+            return Vec::new();
+        }
+        // A shortest route of `a`, down its distance table, and who visits it.
+        let mut others: Vec<usize> = Vec::new();
+        let mut v = self.paths[a][0];
+        loop {
+            others.extend(self.visitors[v as usize].iter().map(|&j| j as usize));
+            let d = cx.dist.get(a, v);
+            if d == 0 {
+                break;
+            }
+            v = *cx
+                .graph
+                .neighbors(v)
+                .iter()
+                .find(|&&w| cx.dist.get(a, w) + 1 == d)
+                .expect("a BFS table always has a predecessor");
+        }
+        others.sort_unstable();
+        others.dedup();
+        others.retain(|&j| j != a);
+        others.shuffle(&mut self.rng);
+        std::iter::once(a)
+            .chain(others.into_iter().take(cx.k - 1))
+            .collect()
+    }
+
+    /// Intersection neighbourhood (MAPF-LNS's map-based one): the agents that visit a random
+    /// intersection, then those of the intersections nearest it (breadth first over at most
+    /// 1,024 vertices), up to `k`.
+    fn intersection(&mut self, cx: &Shared) -> Vec<usize> {
+        let Some(&root) = cx.intersections.choose(&mut self.rng) else {
+            return Vec::new();
+        };
+        let mut chosen: Vec<usize> = Vec::new();
+        let mut seen: FxHashSet<VertexId> = FxHashSet::default();
+        let mut queue = std::collections::VecDeque::from([root]);
+        seen.insert(root);
+        while let Some(v) = queue.pop_front() {
+            if cx.graph.neighbors(v).len() >= 3 {
+                let mut here: Vec<usize> = self.visitors[v as usize]
+                    .iter()
+                    .map(|&j| j as usize)
+                    .filter(|j| !chosen.contains(j))
+                    .collect();
+                here.sort_unstable();
+                here.shuffle(&mut self.rng);
+                chosen.extend(here.into_iter().take(cx.k - chosen.len()));
+                if chosen.len() >= cx.k {
+                    break;
+                }
+            }
+            if seen.len() >= 1024 {
+                continue;
+            }
+            for &w in cx.graph.neighbors(v) {
+                if seen.insert(w) {
+                    queue.push_back(w);
+                }
+            }
+        }
+        chosen
+    }
+
+    /// Updates the weight of `kind` after a step that lowered the objective by `gain` over
+    /// `size` agents (0 when it did not): `w = γ·gain/size + (1 − γ)·w` (MAPF-LNS).
+    fn learn(&mut self, kind: Destroy, gain: u64, size: usize) {
+        let w = &mut self.weights[kind as usize];
+        *w = REACTION * gain as f64 / size.max(1) as f64 + (1.0 - REACTION) * *w;
+    }
+
+    /// One destroy-and-repair step; true when the chain's plan's key dropped. A kept step is
+    /// logged for the merge ([`Lns::steps`]).
+    fn step(&mut self, cx: &Shared, deadline: Deadline) -> bool {
+        self.steps += 1;
+        let (mut group, kind) = self.neighbourhood(cx);
+        group.shuffle(&mut self.rng);
+        let view = View {
+            graph: cx.graph,
+            goals: cx.goals,
+            dist: cx.dist,
+            paths: &self.paths,
+            loss: cx.loss,
+        };
+        let Some((new, improved, gain)) = view.repair(&mut self.res, &group, deadline) else {
+            self.learn(kind, 0, group.len());
+            return false;
+        };
+        self.learn(kind, gain, group.len());
+        self.improved += u64::from(improved);
+        for (&i, p) in group.iter().zip(&new) {
+            self.res.release_path(&self.paths[i], 0, true);
+            withdraw(&mut self.visitors, i, &self.paths[i]);
+            enrol(&mut self.visitors, i, p);
+            self.paths[i].clone_from(p);
+        }
+        for &i in &group {
+            self.res.reserve_path(&self.paths[i], 0, true);
+        }
+        self.log.push((group, new));
+        improved
+    }
+}
+
 /// Whether `paths` (each from time 0, parked at its end) obey `res` and each other, by the rules
-/// [`sipp`] plans with; reserves them when they do, leaves `res` as it was when not.
+/// [`sipp`] plans with; `res` is left as it was either way.
 fn fits(res: &mut Reservations, paths: &[Vec<VertexId>]) -> bool {
     for (n, p) in paths.iter().enumerate() {
         let ok = (1..p.len()).all(|t| res.move_free(p[t - 1], p[t], t as u32))
@@ -382,14 +574,15 @@ fn key_of(
 
 impl View<'_> {
     /// Re-plans the agents of `group`, in its order, against `res` without their paths: their
-    /// new paths and whether they lower the key, when they are found and do not raise it, else
-    /// `None`. `res` is left as it was.
+    /// new paths, whether they lower the key and by how much its first value (the objective)
+    /// dropped, when they are found and do not raise the key, else `None`. `res` is left as it
+    /// was.
     fn repair(
         &self,
         res: &mut Reservations,
         group: &[usize],
         deadline: Deadline,
-    ) -> Option<(Vec<Vec<VertexId>>, bool)> {
+    ) -> Option<(Vec<Vec<VertexId>>, bool, u64)> {
         let old: Vec<&Vec<VertexId>> = group.iter().map(|&i| &self.paths[i]).collect();
         for p in &old {
             res.release_path(p, 0, true);
@@ -421,22 +614,35 @@ impl View<'_> {
             };
             let dist = self.dist;
             let h = move |v: VertexId| dist.get(i, v);
+            let budget = u32::try_from(budget).unwrap_or(u32::MAX);
+            // A path's loss is at most its cost: the budget bounds its time only without loss.
             let q = Query {
                 graph: self.graph,
                 start: self.paths[i][0],
                 goal: self.goals[i],
                 start_time: 0,
                 h: &h,
-                max_time: u32::try_from(budget)
-                    .unwrap_or(u32::MAX)
-                    .min(makespan + SLACK),
+                max_time: if self.loss {
+                    makespan + SLACK
+                } else {
+                    budget.min(makespan + SLACK)
+                },
                 window: None,
                 deadline,
             };
-            match sipp(&q, res) {
+            let found = if self.loss {
+                sipp_loss(&q, res, budget)
+            } else {
+                sipp(&q, res)
+            };
+            match found {
                 Search::Found(p) => {
                     let p = trimmed(p);
-                    spent += p.len() as u64 - 1;
+                    spent += if self.loss {
+                        path_loss(&p, self.goals[i])
+                    } else {
+                        p.len() as u64 - 1
+                    };
                     res.reserve_path(&p, 0, true);
                     new.push(p);
                 }
@@ -450,7 +656,10 @@ impl View<'_> {
             res.reserve_path(p, 0, true);
         }
         let new_key = key_of(self.goals, self.loss, &new, group.iter().copied());
-        (new.len() == group.len() && new_key <= old_key).then_some((new, new_key < old_key))
+        (new.len() == group.len() && new_key <= old_key).then(|| {
+            let gain = old_key.0 - new_key.0;
+            (new, new_key < old_key, gain)
+        })
     }
 }
 
@@ -511,12 +720,18 @@ mod tests {
                 p.validate(&Plan::new(lns.paths().to_vec())).unwrap();
                 last = lns.key();
             }
-            // The other threads' tables are the main one's.
-            for r in &lns.replicas {
+            // The other chains restart from the merged plan: same paths, tables and visitors.
+            for c in &lns.others {
+                assert_eq!(c.paths, lns.main.paths);
                 for v in 0..g.num_vertices() as VertexId {
                     for t in 0..40 {
-                        assert_eq!(r.vertex_free(v, t), lns.res.vertex_free(v, t));
+                        assert_eq!(c.res.vertex_free(v, t), lns.main.res.vertex_free(v, t));
                     }
+                    let mut a = c.visitors[v as usize].clone();
+                    let mut b = lns.main.visitors[v as usize].clone();
+                    a.sort_unstable();
+                    b.sort_unstable();
+                    assert_eq!(a, b);
                 }
             }
             assert_eq!(key(lns.paths()), last, "loss {loss}");

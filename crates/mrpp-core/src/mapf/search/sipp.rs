@@ -97,6 +97,186 @@ pub fn sipp<H: Fn(VertexId) -> u32 + ?Sized>(q: &Query<H>, res: &Reservations) -
     Search::NotFound
 }
 
+/// A least-*loss* path from `q.start` at `q.start_time` to `q.goal` (loss: the steps the agent
+/// does not spend waiting on its goal, [`path_loss`]; lacam3's refiner objective, Okumura,
+/// "Engineering LaCAM*", AAMAS 2024), ending at a time from which the goal is free for ever,
+/// no later than `q.max_time`, with loss at most `max_loss` (states that cannot make either, by
+/// `q.h`, are pruned). Unlike [`sipp`]'s earliest arrival, the path may reach the goal early,
+/// wait there for free and step aside for a passing agent. The path lists one vertex per time
+/// step from `q.start_time` on. `q.window` must be `None`.
+///
+/// A state is a vertex, one of its safe intervals and an arrival time with its loss `g`; a
+/// state is dropped when another of the same interval arrived no later and, after waiting until
+/// its arrival (free on the goal, one per step elsewhere), has no more loss. Moves off a
+/// non-goal vertex leave as early as they can (as [`sipp`]); moves off the goal are drawn both
+/// as early and as late as the goal's interval allows (lacam3's SIPP takes only the latest), so
+/// the search keeps earliest arrivals where waits cost and the cheapest ones where they do not.
+/// Waits in between are not drawn, so the loss found is not proven least: callers keep a path
+/// only when it improves (large-neighbourhood search does). Ties as [`sipp`].
+///
+/// [`path_loss`]: crate::mapf::plan::path_loss
+///
+/// # Panics
+/// When `q.window` is `Some`.
+pub fn sipp_loss<H: Fn(VertexId) -> u32 + ?Sized>(
+    q: &Query<H>,
+    res: &Reservations,
+    max_loss: u32,
+) -> Search {
+    assert!(q.window.is_none(), "SIPP has no windowed mode");
+    if !res.vertex_free(q.start, q.start_time) {
+        return Search::NotFound;
+    }
+    let h0 = (q.h)(q.start);
+    if h0 == u32::MAX || h0 > max_loss {
+        return Search::NotFound;
+    }
+    LOSS.with_borrow_mut(|s| s.search(q, res, h0, max_loss))
+}
+
+/// The per-thread tables of [`sipp_loss`], cleared per query.
+#[derive(Default)]
+struct LossScratch {
+    nodes: Vec<Node>,
+    /// Per node: its loss, whether a later state dominated it, and the next node of its state
+    /// key (`u32::MAX`: none).
+    meta: Vec<(u32, bool, u32)>,
+    /// (f, g, node): max-heap on lower f, then higher g, then the earlier node.
+    open: BinaryHeap<(Reverse<u32>, u32, Reverse<u32>)>,
+    /// (vertex, interval start) -> the newest node of that key; older ones follow `meta.2`.
+    front: FxHashMap<(VertexId, u32), u32>,
+}
+
+thread_local! {
+    static LOSS: std::cell::RefCell<LossScratch> = std::cell::RefCell::default();
+}
+
+impl LossScratch {
+    fn search<H: Fn(VertexId) -> u32 + ?Sized>(
+        &mut self,
+        q: &Query<H>,
+        res: &Reservations,
+        h0: u32,
+        max_loss: u32,
+    ) -> Search {
+        let LossScratch {
+            nodes,
+            meta,
+            open,
+            front,
+        } = self;
+        nodes.clear();
+        meta.clear();
+        open.clear();
+        front.clear();
+        nodes.push(Node {
+            v: q.start,
+            t: q.start_time,
+            parent: u32::MAX,
+        });
+        meta.push((0, false, u32::MAX));
+        open.push((Reverse(h0), 0, Reverse(0)));
+        front.insert((q.start, res.interval_start(q.start, q.start_time)), 0);
+        let mut expansions = 0u64;
+        while let Some((_, _, Reverse(idx))) = open.pop() {
+            let (v, t) = (nodes[idx as usize].v, nodes[idx as usize].t);
+            let (g, dead, _) = meta[idx as usize];
+            if dead {
+                continue;
+            }
+            if v == q.goal && res.free_from(v, t) {
+                return Search::Found(unwind(nodes, idx));
+            }
+            expansions += 1;
+            if expansions.is_multiple_of(1024) && q.deadline.expired() {
+                return Search::TimedOut;
+            }
+            if t >= q.max_time {
+                continue;
+            }
+            let on_goal = v == q.goal;
+            let stay = res
+                .next_reserved(v, t + 1)
+                .saturating_sub(1)
+                .min(q.max_time - 1);
+            for &w in q.graph.neighbors(v) {
+                let hw = (q.h)(w);
+                if hw == u32::MAX {
+                    continue;
+                }
+                // Waiting on `w` from one arrival to a later one: free on the goal.
+                let wait = |from: u32, to: u32| if w == q.goal { 0 } else { to - from };
+                let mut a = t + 1;
+                loop {
+                    a = res.first_free(w, a);
+                    if a == u32::MAX || a > stay + 1 || a.saturating_add(hw) > q.max_time {
+                        break;
+                    }
+                    if res.arrives(v, a, w) {
+                        // As in `successors`: the last arrival this interval of `v` allows.
+                        break;
+                    }
+                    let end = res.next_reserved(w, a);
+                    let mut arrivals = [(a, g + if on_goal { 1 } else { a - t }), (a, u32::MAX)];
+                    if on_goal {
+                        // Leave the goal as late as both intervals allow.
+                        let mut late = (stay + 1)
+                            .min(end.saturating_sub(1))
+                            .min(q.max_time.saturating_sub(hw));
+                        if late > a && res.arrives(v, late, w) {
+                            late -= 1;
+                        }
+                        if late > a {
+                            arrivals[1] = (late, g + 1);
+                        }
+                    }
+                    let key = (w, res.interval_start(w, a));
+                    for (arr, ga) in arrivals {
+                        if ga == u32::MAX || ga.saturating_add(hw) > max_loss {
+                            continue;
+                        }
+                        let head = front.get(&key).copied().unwrap_or(u32::MAX);
+                        // Dominated by a state of the key, or dominating some.
+                        let mut j = head;
+                        let mut dominated = false;
+                        while j != u32::MAX {
+                            let (gj, dj, next) = meta[j as usize];
+                            let tj = nodes[j as usize].t;
+                            if !dj {
+                                if tj <= arr && gj + wait(tj, arr) <= ga {
+                                    dominated = true;
+                                    break;
+                                }
+                                if arr <= tj && ga + wait(arr, tj) <= gj {
+                                    meta[j as usize].1 = true;
+                                }
+                            }
+                            j = next;
+                        }
+                        if dominated {
+                            continue;
+                        }
+                        let id = nodes.len() as u32;
+                        nodes.push(Node {
+                            v: w,
+                            t: arr,
+                            parent: idx,
+                        });
+                        meta.push((ga, false, head));
+                        front.insert(key, id);
+                        open.push((Reverse(ga + hw), ga, Reverse(id)));
+                    }
+                    if end == u32::MAX {
+                        break;
+                    }
+                    a = end;
+                }
+            }
+        }
+        Search::NotFound
+    }
+}
+
 /// The successor states of `v` reached at `t` (the start of its stay in a safe interval): for each
 /// neighbour `w` and each safe interval of `w` the agent can enter before its interval on `v`
 /// ends, `visit(w, a, h(w))` with the earliest arrival `a` in it. Arrivals that cannot reach the
@@ -377,6 +557,39 @@ mod tests {
                 (Search::NotFound, Search::NotFound) => {}
                 _ => prop_assert!(false, "A* {a:?}, SIPP {b:?}"),
             }
+        }
+
+        /// [`sipp_loss`] finds a path whenever [`sipp`] does (within a loss bound of that
+        /// path's loss), the path obeys every reservation and ends on the goal free for ever by
+        /// `max_time`, and its loss is at most the bound.
+        #[test]
+        fn sipp_loss_finds_valid_paths((g, paths, s, goal, t0, max_time) in case()) {
+            let mut res = Reservations::new(g.num_vertices());
+            for (p, park) in &paths {
+                res.reserve_path(p, 0, *park);
+            }
+            let d = bfs_distances(&g, goal);
+            let h = |v: VertexId| d[v as usize];
+            let mut q = query(&g, s, goal, &h, max_time);
+            q.start_time = t0;
+            let Search::Found(pe) = sipp(&q, &res) else {
+                return Ok(());
+            };
+            let bound = crate::mapf::plan::path_loss(&pe, goal) as u32;
+            let Search::Found(pl) = sipp_loss(&q, &res, bound) else {
+                prop_assert!(false, "earliest-arrival path {pe:?} of loss {bound}, none by loss");
+                unreachable!()
+            };
+            prop_assert_eq!(pl[0], s);
+            prop_assert_eq!(*pl.last().unwrap(), goal);
+            for (t, w) in pl.windows(2).enumerate() {
+                prop_assert!(w[0] == w[1] || g.neighbors(w[0]).contains(&w[1]));
+                let t = t0 + t as u32 + 1;
+                prop_assert!(res.move_free(w[0], w[1], t), "{pl:?} at {t}");
+            }
+            let arrival = t0 + pl.len() as u32 - 1;
+            prop_assert!(res.free_from(goal, arrival) && arrival <= max_time.max(t0));
+            prop_assert!(crate::mapf::plan::path_loss(&pl, goal) <= u64::from(bound));
         }
     }
 }
