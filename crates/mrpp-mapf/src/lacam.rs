@@ -58,7 +58,7 @@
 //! mrpp's extension (`-p refine`, sum of loss and sum of costs): LaCAM* alone improves large
 //! instances slowly, so between its search rounds (every 8 iterations) the best plan also goes
 //! through 16 steps of large-neighbourhood search ([`crate::lns`], MAPF-LNS; with `threads`,
-//! 64 steps of each thread's chain, merged); a LaCAM* plan
+//! 256 steps of each thread's chain, merged); a LaCAM* plan
 //! better on the LNS's measure replaces the LNS plan. The returned plan is the better of the two
 //! on the objective (sum of loss: ties to the lower sum of costs), and `final_cost` is its value.
 //! lacam3 refines its plans the same way (Engineering LaCAM*, AAMAS 2024). `refine=lns` makes
@@ -926,10 +926,13 @@ const LNS_EVERY: u64 = 8;
 const LNS_STEPS: usize = 16;
 /// With several threads, each LNS chain runs this many times `LNS_STEPS` steps between two
 /// merges: the threads wait for the slowest chain at a merge, and step times vary widely. On
-/// den520d with 1,000 agents (`-p threads=2 -t 30`, seeds 0-2, a temporary timer) one thread
-/// waited 16-27% of the LNS's time at 16 steps per chain and 12-17% at 64, and the chains took
-/// 5,900-6,300 and 6,400-9,000 steps in all.
-const LNS_CHAIN_FACTOR: usize = 4;
+/// den520d with 1,000 agents (`mrpp solve ... -P lacam -p anytime=true -p threads=2 -s S -t 30`,
+/// seeds 0-2, one run at a time, quiet machine, 2026-12-06) one thread waited 16-27% of the LNS's
+/// time at 16 steps per chain and 12-17% at 64 (a temporary timer); the chains took 5,900-6,300
+/// steps in all at 16, 6,400-9,000 at 64, 7,680-9,728 at 256; the sums of loss, means of the three
+/// seeds: 169,651 at 16, 169,633 at 64, 169,595 at 256, 169,600 at 1,024 (lacam3 with two
+/// threads: 169,607, three runs).
+const LNS_CHAIN_FACTOR: usize = 16;
 
 /// Whether constraint `c` extended by the agent now at `v` going to `u` keeps its agents apart:
 /// `u` is no other constrained agent's next vertex, and no constrained agent moves from `u` to

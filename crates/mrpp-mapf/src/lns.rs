@@ -269,10 +269,14 @@ impl<'a> Lns<'a> {
     }
 
     /// `rounds` steps in each chain (module doc), then a merge; the number of steps that lowered
-    /// the plan's cost and stood. With one thread, `rounds` [`Lns::step`]s.
+    /// the plan's cost and stood. With one thread, `rounds` [`Lns::step`]s. A chain stops early
+    /// once `deadline` has passed.
     pub(crate) fn steps(&mut self, rounds: usize, deadline: Deadline) -> u64 {
         if self.others.is_empty() {
-            return (0..rounds).map(|_| u64::from(self.step(deadline))).sum();
+            return (0..rounds)
+                .take_while(|_| !deadline.expired())
+                .map(|_| u64::from(self.step(deadline)))
+                .sum();
         }
         let cx = &self.cx;
         // Plain scoped threads, not a rayon pool: a rayon worker that waits for another pool
@@ -280,6 +284,7 @@ impl<'a> Lns<'a> {
         // started inside this one.
         let run = |c: &mut Chain| {
             (0..rounds)
+                .take_while(|_| !deadline.expired())
                 .map(|_| u64::from(c.step(cx, deadline)))
                 .sum::<u64>()
         };
