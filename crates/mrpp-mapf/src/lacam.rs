@@ -140,7 +140,7 @@ pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
         Param {
             name: "refine",
             default: "auto",
-            doc: "LaCAM* (sum_of_loss, sum_of_costs): lns = also improve the best plan's sum of costs by large-neighbourhood search (MAPF-LNS, IJCAI 2021); lns_loss = LNS that keeps only steps lowering the sum of loss (with objective=sum_of_loss); auto = lns_loss with objective=sum_of_loss when the agents cover less than 8% of the vertices, else lns (measured after 30 s: lns_loss lower in sum of loss on den520d, warehouse-20-40-10-2-1 and Paris_1_256 with 400-1,000 agents, 0.8-4.1% covered; 14-24% higher sum of loss on den312d and random-32-32-20 with 400, 16-49% covered; docs/benchmark.md); none = LaCAM* alone",
+            doc: "LaCAM* (sum_of_loss, sum_of_costs): lns = also improve the best plan's sum of costs by large-neighbourhood search (MAPF-LNS, IJCAI 2021); lns_loss = LNS that re-plans paths of least loss and keeps only steps lowering the sum of loss (with objective=sum_of_loss); auto = lns_loss with objective=sum_of_loss when the agents cover less than 8% of the vertices, else lns (measured after 30 s: lns_loss lower in sum of loss on den520d, warehouse-20-40-10-2-1 and Paris_1_256 with 400-1,000 agents, 0.8-4.1% covered; 14-24% higher sum of loss on den312d and random-32-32-20 with 400, 16-49% covered; docs/benchmark.md); none = LaCAM* alone",
         },
         Param {
             name: "scatter",
@@ -165,7 +165,7 @@ pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
         Param {
             name: "threads",
             default: "1",
-            doc: "LaCAM* with refine: neighbourhoods the LNS repairs at once, one per thread (1-64); the result depends on this number and the seed, not on the machine's cores (docs/planners.md)",
+            doc: "LaCAM* with refine: LNS chains run at once, one per thread (1-64), each on its own copy of the plan, merged in a fixed order; the result depends on this number and the seed, not on the machine's cores (docs/planners.md)",
         },
         Param {
             name: "restart_rate",
@@ -267,7 +267,7 @@ pub struct Lacam {
     pub scatter: Scatter,
     /// Steps a space-utilisation path may be longer than the agent's shortest.
     pub scatter_margin: u32,
-    /// LaCAM* with refinement: neighbourhoods the LNS repairs at once, one per thread
+    /// LaCAM* with refinement: LNS chains run at once, one per thread, merged in a fixed order
     /// ([`crate::lns`]'s `steps`).
     pub threads: usize,
     /// Steps of local guidance ([`crate::guidance`]); 0 = none.
