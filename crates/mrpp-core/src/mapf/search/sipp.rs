@@ -199,79 +199,60 @@ impl LossScratch {
                 .next_reserved(v, t + 1)
                 .saturating_sub(1)
                 .min(q.max_time - 1);
-            for &w in q.graph.neighbors(v) {
-                let hw = (q.h)(w);
-                if hw == u32::MAX {
-                    continue;
-                }
+            // The earliest arrival in each safe interval of each neighbour, as [`sipp`]'s.
+            successors(q, res, v, t, |w, a, hw| {
                 // Waiting on `w` from one arrival to a later one: free on the goal.
                 let wait = |from: u32, to: u32| if w == q.goal { 0 } else { to - from };
-                let mut a = t + 1;
-                loop {
-                    a = res.first_free(w, a);
-                    if a == u32::MAX || a > stay + 1 || a.saturating_add(hw) > q.max_time {
-                        break;
+                let mut arrivals = [(a, g + if on_goal { 1 } else { a - t }), (a, u32::MAX)];
+                if on_goal {
+                    // Leave the goal as late as both intervals allow.
+                    let mut late = (stay + 1)
+                        .min(res.next_reserved(w, a).saturating_sub(1))
+                        .min(q.max_time.saturating_sub(hw));
+                    if late > a && res.arrives(v, late, w) {
+                        late -= 1;
                     }
-                    if res.arrives(v, a, w) {
-                        // As in `successors`: the last arrival this interval of `v` allows.
-                        break;
+                    if late > a {
+                        arrivals[1] = (late, g + 1);
                     }
-                    let end = res.next_reserved(w, a);
-                    let mut arrivals = [(a, g + if on_goal { 1 } else { a - t }), (a, u32::MAX)];
-                    if on_goal {
-                        // Leave the goal as late as both intervals allow.
-                        let mut late = (stay + 1)
-                            .min(end.saturating_sub(1))
-                            .min(q.max_time.saturating_sub(hw));
-                        if late > a && res.arrives(v, late, w) {
-                            late -= 1;
-                        }
-                        if late > a {
-                            arrivals[1] = (late, g + 1);
-                        }
-                    }
-                    let key = (w, res.interval_start(w, a));
-                    for (arr, ga) in arrivals {
-                        if ga == u32::MAX || ga.saturating_add(hw) > max_loss {
-                            continue;
-                        }
-                        let head = front.get(&key).copied().unwrap_or(u32::MAX);
-                        // Dominated by a state of the key, or dominating some.
-                        let mut j = head;
-                        let mut dominated = false;
-                        while j != u32::MAX {
-                            let (gj, dj, next) = meta[j as usize];
-                            let tj = nodes[j as usize].t;
-                            if !dj {
-                                if tj <= arr && gj + wait(tj, arr) <= ga {
-                                    dominated = true;
-                                    break;
-                                }
-                                if arr <= tj && ga + wait(arr, tj) <= gj {
-                                    meta[j as usize].1 = true;
-                                }
-                            }
-                            j = next;
-                        }
-                        if dominated {
-                            continue;
-                        }
-                        let id = nodes.len() as u32;
-                        nodes.push(Node {
-                            v: w,
-                            t: arr,
-                            parent: idx,
-                        });
-                        meta.push((ga, false, head));
-                        front.insert(key, id);
-                        open.push((Reverse(ga + hw), ga, Reverse(id)));
-                    }
-                    if end == u32::MAX {
-                        break;
-                    }
-                    a = end;
                 }
-            }
+                let key = (w, res.interval_start(w, a));
+                for (arr, ga) in arrivals {
+                    if ga == u32::MAX || ga.saturating_add(hw) > max_loss {
+                        continue;
+                    }
+                    let head = front.get(&key).copied().unwrap_or(u32::MAX);
+                    // Dominated by a state of the key, or dominating some.
+                    let mut j = head;
+                    let mut dominated = false;
+                    while j != u32::MAX {
+                        let (gj, dj, next) = meta[j as usize];
+                        let tj = nodes[j as usize].t;
+                        if !dj {
+                            if tj <= arr && gj + wait(tj, arr) <= ga {
+                                dominated = true;
+                                break;
+                            }
+                            if arr <= tj && ga + wait(arr, tj) <= gj {
+                                meta[j as usize].1 = true;
+                            }
+                        }
+                        j = next;
+                    }
+                    if dominated {
+                        continue;
+                    }
+                    let id = nodes.len() as u32;
+                    nodes.push(Node {
+                        v: w,
+                        t: arr,
+                        parent: idx,
+                    });
+                    meta.push((ga, false, head));
+                    front.insert(key, id);
+                    open.push((Reverse(ga + hw), ga, Reverse(id)));
+                }
+            });
         }
         Search::NotFound
     }
