@@ -301,6 +301,16 @@ impl<'a> Lns<'a> {
             }
             own
         });
+        lowered += self.merge();
+        self.improved += lowered;
+        lowered
+    }
+
+    /// Merges the other chains' logged steps into the first chain's plan (module doc) and
+    /// restarts every other chain from it; the number of merged steps that lowered the key.
+    fn merge(&mut self) -> u64 {
+        let cx = &self.cx;
+        let mut lowered = 0;
         // Merge: who moved each agent this round (0: the first chain).
         let mut owner: FxHashMap<usize, usize> = FxHashMap::default();
         for (group, _) in self.main.log.drain(..) {
@@ -367,7 +377,6 @@ impl<'a> Lns<'a> {
                 enrol(&mut c.visitors, i, &c.paths[i]);
             }
         }
-        self.improved += lowered;
         lowered
     }
 }
