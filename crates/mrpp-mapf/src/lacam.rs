@@ -58,20 +58,19 @@
 //! mrpp's extension (`-p refine`, sum of loss and sum of costs): LaCAM* alone improves large
 //! instances slowly, so between its search rounds (every 8 iterations) the best plan also goes
 //! through 16 steps of large-neighbourhood search ([`crate::lns`], MAPF-LNS; with `threads`,
-//! 256 steps of each thread's chain, merged); a LaCAM* plan
-//! better on the LNS's measure replaces the LNS plan. The returned plan is the better of the two
-//! on the objective (sum of loss: ties to the lower sum of costs), and `final_cost` is its value.
+//! 256 steps of each thread's chain, merged); a LaCAM* plan better on the LNS's measure replaces
+//! the LNS plan. The returned plan is the better of the two on the objective (sum of loss: ties
+//! to the lower sum of costs), and `final_cost` is its value.
 //! lacam3 refines its plans the same way (Engineering LaCAM*, AAMAS 2024). `refine=lns` makes
 //! the LNS lower the sum of costs; `refine=lns_loss` keeps only its steps that lower the sum of
 //! loss (its re-planned paths minimise their own loss, as lacam3's refiner's do; until
 //! 2026-12-06 they were earliest-arrival ones, when the measurements below were made). Neither
-//! wins everywhere (measured after
-//! 30 s, docs/benchmark.md): on random-32-32-20 and den312d with 400 agents (16-49% of the
-//! vertices covered) `lns` ended 14-24% lower in sum of loss, while on den520d,
-//! warehouse-20-40-10-2-1 and Paris_1_256 with 700-1,000 agents (1.5-4.1% covered) `lns_loss`
-//! ended lower in sum of loss: there an LNS step re-plans long paths (656 steps in 30 s on den520d
-//! with 1,000 agents against 28,592 on random-32-32-20 with 400), too few for the sum-of-costs
-//! LNS to move the sum of loss at all. So the default, `refine=auto`, takes `lns_loss` with the
+//! wins everywhere (measured after 30 s, docs/benchmark.md): on random-32-32-20 and den312d with
+//! 400 agents (16-49% of the vertices covered) `lns` ended 14-24% lower in sum of loss, while
+//! on den520d, warehouse-20-40-10-2-1 and Paris_1_256 with 700-1,000 agents (1.5-4.1% covered)
+//! `lns_loss` ended lower in sum of loss: there an LNS step re-plans long paths (656 steps in
+//! 30 s on den520d with 1,000 agents against 28,592 on random-32-32-20 with 400), too few for
+//! the sum-of-costs LNS to move the sum of loss at all. So the default, `refine=auto`, takes `lns_loss` with the
 //! sum-of-loss objective below [`AUTO_LOSS_BELOW`] (8%) of the vertices covered, `lns` otherwise.
 //! `-p refine=none` is LaCAM* as published.
 //!

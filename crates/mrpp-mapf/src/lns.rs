@@ -87,7 +87,6 @@ struct Chain {
     /// The adaptive weights of the neighbourhoods, indexed by [`Destroy`].
     weights: [f64; 3],
     steps: u64,
-    improved: u64,
     /// The steps kept since the last merge: agents and their new paths.
     log: Vec<(Vec<usize>, Vec<Vec<VertexId>>)>,
 }
@@ -181,7 +180,6 @@ impl<'a> Lns<'a> {
                 rng: ChaCha8Rng::seed_from_u64(seed),
                 weights: [1.0; 3],
                 steps: 0,
-                improved: 0,
                 log: Vec::new(),
             },
             others: Vec::new(),
@@ -530,7 +528,6 @@ impl Chain {
             return false;
         };
         self.learn(kind, gain, group.len());
-        self.improved += u64::from(improved);
         for (&i, p) in group.iter().zip(&new) {
             self.res.release_path(&self.paths[i], 0, true);
             withdraw(&mut self.visitors, i, &self.paths[i]);
