@@ -112,7 +112,13 @@ pub fn sipp<H: Fn(VertexId) -> u32 + ?Sized>(q: &Query<H>, res: &Reservations) -
 /// as early and as late as the goal's interval allows (lacam3's SIPP takes only the latest), so
 /// the search keeps earliest arrivals where waits cost and the cheapest ones where they do not.
 /// Waits in between are not drawn, so the loss found is not proven least: callers keep a path
-/// only when it improves (large-neighbourhood search does). Ties as [`sipp`].
+/// only when it improves (large-neighbourhood search does).
+///
+/// Ties: lower `f`, then higher `g`, then the newest state (depth first among equals; lacam3's
+/// SIPP also pops its newest node among equals). Among paths of equal loss this is the one
+/// that matters for large-neighbourhood search: with the oldest state first instead (as
+/// [`sipp`]), LaCAM\*'s refinement on den520d with 1,000 agents ended 0.1-0.2% higher in sum of
+/// loss (docs/benchmark.md, "Newest-first ties").
 ///
 /// [`path_loss`]: crate::mapf::plan::path_loss
 ///
@@ -141,8 +147,8 @@ struct LossScratch {
     /// Per node: its loss, whether a later state dominated it, and the next node of its state
     /// key (`u32::MAX`: none).
     meta: Vec<(u32, bool, u32)>,
-    /// (f, g, node): max-heap on lower f, then higher g, then the earlier node.
-    open: BinaryHeap<(Reverse<u32>, u32, Reverse<u32>)>,
+    /// (f, g, node): max-heap on lower f, then higher g, then the newer node.
+    open: BinaryHeap<(Reverse<u32>, u32, u32)>,
     /// (vertex, interval start) -> the newest node of that key; older ones follow `meta.2`.
     front: FxHashMap<(VertexId, u32), u32>,
 }
@@ -175,10 +181,10 @@ impl LossScratch {
             parent: u32::MAX,
         });
         meta.push((0, false, u32::MAX));
-        open.push((Reverse(h0), 0, Reverse(0)));
+        open.push((Reverse(h0), 0, 0));
         front.insert((q.start, res.interval_start(q.start, q.start_time)), 0);
         let mut expansions = 0u64;
-        while let Some((_, _, Reverse(idx))) = open.pop() {
+        while let Some((_, _, idx)) = open.pop() {
             let (v, t) = (nodes[idx as usize].v, nodes[idx as usize].t);
             let (g, dead, _) = meta[idx as usize];
             if dead {
@@ -250,7 +256,7 @@ impl LossScratch {
                     });
                     meta.push((ga, false, head));
                     front.insert(key, id);
-                    open.push((Reverse(ga + hw), ga, Reverse(id)));
+                    open.push((Reverse(ga + hw), ga, id));
                 }
             });
         }
