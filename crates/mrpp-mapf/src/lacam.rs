@@ -70,8 +70,9 @@
 //! on den520d, warehouse-20-40-10-2-1 and Paris_1_256 with 700-1,000 agents (1.5-4.1% covered)
 //! `lns_loss` ended lower in sum of loss: there an LNS step re-plans long paths (656 steps in
 //! 30 s on den520d with 1,000 agents against 28,592 on random-32-32-20 with 400), too few for
-//! the sum-of-costs LNS to move the sum of loss at all. So the default, `refine=auto`, takes `lns_loss` with the
-//! sum-of-loss objective below [`AUTO_LOSS_BELOW`] (8%) of the vertices covered, `lns` otherwise.
+//! the sum-of-costs LNS to move the sum of loss at all. So the default, `refine=auto`, takes
+//! `lns_loss` with the sum-of-loss objective below [`AUTO_LOSS_BELOW`] (8%) of the vertices
+//! covered, `lns` otherwise.
 //! `-p refine=none` is LaCAM* as published.
 //!
 //! Scatter (`-p scatter`, [`crate::scatter`]; lacam3's, Engineering LaCAM*, AAMAS 2024): before
@@ -618,7 +619,16 @@ fn search_within(
                 } else {
                     LNS_STEPS
                 };
-                if l.steps(rounds, ctx.deadline) > 0 {
+                // A round of several chains can take seconds on large maps.
+                let tick = |k: usize| {
+                    throttle.report(ctx, || Progress {
+                        stage: "LaCAM* LNS round",
+                        done: k as u64,
+                        total: rounds as u64,
+                        note: format!("{k} of {rounds} steps of the first chain"),
+                    })
+                };
+                if l.steps(rounds, ctx.deadline, tick) > 0 {
                     // What the LNS lowers (its key's first value), named as such.
                     let cost = l.key().0;
                     let what = if l.lowers_loss() {

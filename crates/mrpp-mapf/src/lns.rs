@@ -268,32 +268,48 @@ impl<'a> Lns<'a> {
 
     /// `rounds` steps in each chain (module doc), then a merge; the number of steps that lowered
     /// the plan's cost and stood. With one thread, `rounds` [`Lns::step`]s. A chain stops early
-    /// once `deadline` has passed.
-    pub(crate) fn steps(&mut self, rounds: usize, deadline: Deadline) -> u64 {
+    /// once `deadline` has passed. `tick(k)` runs on the calling thread after its chain's `k`-th
+    /// step (for progress reports: a round of several threads can take seconds).
+    pub(crate) fn steps(
+        &mut self,
+        rounds: usize,
+        deadline: Deadline,
+        mut tick: impl FnMut(usize),
+    ) -> u64 {
         if self.others.is_empty() {
-            return (0..rounds)
-                .take_while(|_| !deadline.expired())
-                .map(|_| u64::from(self.step(deadline)))
-                .sum();
+            let mut lowered = 0;
+            for k in 1..=rounds {
+                if deadline.expired() {
+                    break;
+                }
+                lowered += u64::from(self.step(deadline));
+                tick(k);
+            }
+            return lowered;
         }
         let cx = &self.cx;
         // Plain scoped threads, not a rayon pool: a rayon worker that waits for another pool
         // runs its own pool's queued jobs meanwhile, which in `mrpp bench` are other runs,
         // started inside this one.
-        let run = |c: &mut Chain| {
-            (0..rounds)
-                .take_while(|_| !deadline.expired())
-                .map(|_| u64::from(c.step(cx, deadline)))
-                .sum::<u64>()
+        let run = |c: &mut Chain, tick: &mut dyn FnMut(usize)| {
+            let mut lowered = 0;
+            for k in 1..=rounds {
+                if deadline.expired() {
+                    break;
+                }
+                lowered += u64::from(c.step(cx, deadline));
+                tick(k);
+            }
+            lowered
         };
         let main = &mut self.main;
         let mut lowered = std::thread::scope(|sc| {
             let handles: Vec<_> = self
                 .others
                 .iter_mut()
-                .map(|c| sc.spawn(move || run(c)))
+                .map(|c| sc.spawn(move || run(c, &mut |_| {})))
                 .collect();
-            let own = run(main);
+            let own = run(main, &mut tick);
             for h in handles {
                 h.join().unwrap_or_else(|e| std::panic::resume_unwind(e));
             }
@@ -725,7 +741,7 @@ mod tests {
             let mut last = lns.key();
             assert_eq!(last, before, "loss {loss}");
             for _ in 0..200 / threads {
-                lns.steps(1, Deadline::none());
+                lns.steps(1, Deadline::none(), |_| {});
                 assert!(lns.key() <= last, "loss {loss}");
                 // Valid after every round (the validator judges the padded plan).
                 p.validate(&Plan::new(lns.paths().to_vec())).unwrap();
@@ -750,7 +766,7 @@ mod tests {
             let mut again =
                 Lns::new(g, &inst.goals, &dist, plan.paths.clone(), 7, loss).with_threads(threads);
             for _ in 0..200 / threads {
-                again.steps(1, Deadline::none());
+                again.steps(1, Deadline::none(), |_| {});
             }
             assert_eq!(again.paths(), lns.paths(), "loss {loss}, {threads} threads");
             assert!(last < before, "loss {loss}: {last:?} !< {before:?}");

@@ -201,10 +201,8 @@ impl LossScratch {
                 continue;
             }
             let on_goal = v == q.goal;
-            let stay = res
-                .next_reserved(v, t + 1)
-                .saturating_sub(1)
-                .min(q.max_time - 1);
+            // Only departures from the goal need the end of the stay (drawn late as well).
+            let stay = if on_goal { stay_end(q, res, v, t) } else { 0 };
             // The earliest arrival in each safe interval of each neighbour, as [`sipp`]'s.
             successors(q, res, v, t, |w, a, hw| {
                 // Waiting on `w` from one arrival to a later one: free on the goal.
@@ -264,6 +262,20 @@ impl LossScratch {
     }
 }
 
+/// The last time step the agent, on `v` from `t` (`t < q.max_time`), may stay there: the end of
+/// its safe interval, and before `q.max_time`.
+#[inline]
+fn stay_end<H: Fn(VertexId) -> u32 + ?Sized>(
+    q: &Query<H>,
+    res: &Reservations,
+    v: VertexId,
+    t: u32,
+) -> u32 {
+    res.next_reserved(v, t + 1)
+        .saturating_sub(1)
+        .min(q.max_time - 1)
+}
+
 /// The successor states of `v` reached at `t` (the start of its stay in a safe interval): for each
 /// neighbour `w` and each safe interval of `w` the agent can enter before its interval on `v`
 /// ends, `visit(w, a, h(w))` with the earliest arrival `a` in it. Arrivals that cannot reach the
@@ -278,10 +290,7 @@ fn successors<H: Fn(VertexId) -> u32 + ?Sized>(
 ) {
     // The agent may stay on `v` up to `stay` (the end of its safe interval), so it can
     // arrive on a neighbour at any time in `t + 1 ..= stay + 1`.
-    let stay = res
-        .next_reserved(v, t + 1)
-        .saturating_sub(1)
-        .min(q.max_time - 1);
+    let stay = stay_end(q, res, v, t);
     for &w in q.graph.neighbors(v) {
         let hw = (q.h)(w);
         if hw == u32::MAX {
