@@ -8,6 +8,7 @@
 //! seed = 0                # every job's seed derives from it and the job's key
 //! runs = 2                # runs per (instance, agent count, planner)
 //! time_limit = 10.0       # seconds per run
+//! # peer_timeout = 300.0  # seconds before a peer is killed (default: 2 x time_limit + 10)
 //!
 //! [[instances]]
 //! map = "../../data/movingai/random-32-32-20.map"    # relative to this file
@@ -32,8 +33,9 @@
 //! A *peer* is any solver that writes the LaCAM text result (`solved=`, `starts=`, `goals=`,
 //! `solution=`): the placeholders `{map}`, `{scen}`, `{agents}`, `{seed}` (the job's seed modulo
 //! 2^31), `{time_limit}` (seconds) and `{out}` (a fresh file) are filled in (paths shell-quoted)
-//! and the command runs under `sh -c` in its own process group, which is killed after twice the
-//! time limit plus 10 s (recorded as `time_limit`). Its result is
+//! and the command runs under `sh -c` in its own process group, which is killed after
+//! `peer_timeout` seconds (default: twice the time limit plus 10 s; recorded as `time_limit`).
+//! Its result is
 //! read, checked to be for the same agents, and validated like mrpp's own plans; its runtime is
 //! the file's `comp_time` (ms) when present, else the command's wall time. A peer's missing or
 //! unreadable result is `gave_up`; a result the validator rejects is `invalid` (a peer's bug is
@@ -84,6 +86,12 @@ pub struct SweepConfig {
     /// Seconds per run.
     #[serde(default = "ten")]
     pub time_limit: f64,
+    /// Seconds after which a peer's process group is killed (recorded as `time_limit`); `None`
+    /// = twice `time_limit` plus 10 s. At least `time_limit`. Raise it for a peer that takes long
+    /// to write a large plan after its search: lacam0 with 10,000 agents on
+    /// warehouse-20-40-10-2-1 found its plan in 41 s and wrote its 224 MB result 170 s later.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub peer_timeout: Option<f64>,
     pub instances: Vec<InstanceSpec>,
     #[serde(default)]
     pub planners: Vec<PlannerSpec>,
@@ -515,6 +523,14 @@ fn check(cfg: &SweepConfig) -> Result<()> {
     if !(cfg.time_limit.is_finite() && cfg.time_limit > 0.0 && cfg.time_limit <= 1e7) {
         return Err(Error::Param(format!(
             "time_limit must be a positive number of seconds, got {}",
+            cfg.time_limit
+        )));
+    }
+    if let Some(t) = cfg.peer_timeout
+        && !(t.is_finite() && t >= cfg.time_limit && t <= 1e7)
+    {
+        return Err(Error::Param(format!(
+            "peer_timeout must be a number of seconds at least time_limit ({}), got {t}",
             cfg.time_limit
         )));
     }
@@ -1041,7 +1057,11 @@ impl GridSweep {
         ] {
             command = command.replace(&format!("{{{k}}}"), &v);
         }
-        let limit = Duration::from_secs_f64(self.cfg.time_limit * 2.0 + 10.0);
+        let limit = Duration::from_secs_f64(
+            self.cfg
+                .peer_timeout
+                .unwrap_or(self.cfg.time_limit * 2.0 + 10.0),
+        );
         let ran = run_peer_command(&command, &out, &stderr_path, limit);
         let _ = std::fs::remove_dir_all(&dir);
         let (text, wall_ms, peak_rss_kb) = match ran {

@@ -98,6 +98,7 @@ impl RunArgs {
                     seed: 0,
                     runs: self.runs.unwrap_or(1),
                     time_limit: self.time_limit.unwrap_or(10.0),
+                    peer_timeout: None,
                     instances: vec![InstanceSpec {
                         map: map.clone(),
                         scen: scen.clone(),

@@ -628,3 +628,60 @@ fn lacam_star_with_two_threads_keeps_to_its_time_limit_in_a_sweep() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// `peer_timeout` kills a peer that outlives it (recorded as `time_limit`, after about that many
+/// seconds rather than the default of twice the time limit plus 10 s), and one below the time
+/// limit is a one-line error naming the key.
+#[test]
+fn a_peer_is_killed_after_peer_timeout() {
+    let dir = tmp("peer-timeout");
+    let root = root();
+    let config = |timeout: f64| {
+        format!(
+            "time_limit = 0.5\npeer_timeout = {timeout}\n[[instances]]\nmap = \"{0}/data/movingai/random-32-32-20.map\"\nscen = \"{0}/data/movingai/random-32-32-20-random-1.scen\"\nagents = [5]\n[[peers]]\nname = \"slow\"\ncommand = \"sleep 60; echo solved=1 > {{out}}\"\n",
+            root.display()
+        )
+    };
+    let path = dir.join("c.toml");
+    std::fs::write(&path, config(1.0)).unwrap();
+    let out = dir.join("out");
+    mrpp_exits(
+        &[
+            "bench",
+            "run",
+            "--config",
+            s(&path),
+            "--jobs",
+            "1",
+            "--out",
+            s(&out),
+        ],
+        0,
+    );
+    let records = std::fs::read_to_string(out.join("records.csv")).unwrap();
+    let mut lines = records.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let row: Vec<&str> = lines.next().expect("one record").split(',').collect();
+    assert_eq!(row[col("status")], "time_limit", "{records}");
+    let ms: f64 = row[col("runtime_ms")].parse().unwrap();
+    assert!((1000.0..11_000.0).contains(&ms), "killed after {ms} ms");
+    std::fs::write(&path, config(0.25)).unwrap();
+    let (_, err) = mrpp_exits(
+        &[
+            "bench",
+            "run",
+            "--config",
+            s(&path),
+            "--out",
+            s(&dir.join("o")),
+        ],
+        1,
+    );
+    assert!(
+        err.contains("peer_timeout") && err.contains("0.25"),
+        "{err}"
+    );
+    assert_eq!(err.lines().count(), 1, "{err}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -55,12 +55,17 @@
 //! first-solution time, its cost, the final cost and whether it is proven optimal are the
 //! planner's notes (kept in the plan file).
 //!
-//! mrpp's extension (`-p refine`, sum of loss and sum of costs): LaCAM* alone improves large
-//! instances slowly, so between its search rounds (every 8 iterations) the best plan also goes
-//! through 16 steps of large-neighbourhood search ([`crate::lns`], MAPF-LNS; with `threads`,
-//! 256 steps of each thread's chain, merged); a LaCAM* plan better on the LNS's measure replaces
-//! the LNS plan. The returned plan is the better of the two on the objective (sum of loss: ties
-//! to the lower sum of costs), and `final_cost` is its value.
+//! mrpp's extension (`-p refine`): LaCAM* alone improves large instances slowly, so between its
+//! search rounds (every 8 iterations) the best plan also goes through 16 steps of
+//! large-neighbourhood search ([`crate::lns`], MAPF-LNS; with `threads`, 256 steps of each
+//! thread's chain, merged); a LaCAM* plan better on the LNS's measure replaces the LNS plan. The
+//! returned plan is the better of the two on the objective (sum of loss and makespan: ties to the
+//! lower sum of costs), and `final_cost` is its value. With the makespan the LNS lowers
+//! (makespan, sum of costs) and gets at most half the time since the first plan: the search's
+//! bound there (the longest distance) is often tight, and it then proves the optimum within
+//! seconds, which an LNS taking every other turn delayed (lak303d with 500 agents: proven at 464
+//! in 2.3 s alone; 468, unproven, after 10 s with the LNS taking its turns; 2.6 s with half the
+//! time, docs/benchmark.md). An LNS plan at that bound ends the run, proven optimal.
 //! lacam3 refines its plans the same way (Engineering LaCAM*, AAMAS 2024). `refine=lns` makes
 //! the LNS lower the sum of costs; `refine=lns_loss` keeps only its steps that lower the sum of
 //! loss (its re-planned paths minimise their own loss, as lacam3's refiner's do; until
@@ -140,7 +145,7 @@ pub const ENTRY: PlannerEntry<MapfProblem> = PlannerEntry {
         Param {
             name: "refine",
             default: "auto",
-            doc: "LaCAM* (sum_of_loss, sum_of_costs): lns = also improve the best plan's sum of costs by large-neighbourhood search (MAPF-LNS, IJCAI 2021); lns_loss = LNS that re-plans paths of least loss and keeps only steps lowering the sum of loss (with objective=sum_of_loss); auto = lns_loss with objective=sum_of_loss when the agents cover less than 8% of the vertices, else lns (measured after 30 s: lns_loss lower in sum of loss on den520d, warehouse-20-40-10-2-1 and Paris_1_256 with 400-1,000 agents, 0.8-4.1% covered; 14-24% higher sum of loss on den312d and random-32-32-20 with 400, 16-49% covered; docs/benchmark.md); none = LaCAM* alone",
+            doc: "LaCAM*: lns = also improve the best plan's sum of costs by large-neighbourhood search (MAPF-LNS, IJCAI 2021); with objective=makespan every setting but none makes the LNS lower (makespan, sum of costs), starting from a latest-arriving agent, in at most half the time after the first plan; lns_loss = LNS that re-plans paths of least loss and keeps only steps lowering the sum of loss (with objective=sum_of_loss); auto = lns_loss with objective=sum_of_loss when the agents cover less than 8% of the vertices, else lns (measured after 30 s: lns_loss lower in sum of loss on den520d, warehouse-20-40-10-2-1 and Paris_1_256 with 400-1,000 agents, 0.8-4.1% covered; 14-24% higher sum of loss on den312d and random-32-32-20 with 400, 16-49% covered; docs/benchmark.md); none = LaCAM* alone",
         },
         Param {
             name: "scatter",
@@ -235,7 +240,8 @@ pub enum Objective {
 }
 
 impl Objective {
-    fn name(self) -> &'static str {
+    /// The objective's parameter value (`sum_of_loss`, `sum_of_costs`, `makespan`).
+    pub fn name(self) -> &'static str {
         match self {
             Objective::SumOfLoss => "sum_of_loss",
             Objective::SumOfCosts => "sum_of_costs",
@@ -260,8 +266,7 @@ pub struct Lacam {
     pub stall_restart: u64,
     /// Refinements of the PIBT generator.
     pub tricks: Tricks,
-    /// LaCAM* with the sum-of-loss or sum-of-costs objective: how the best plan is improved
-    /// between search rounds ([`Refine`]).
+    /// LaCAM*: how the best plan is improved between search rounds ([`Refine`]).
     pub refine: Refine,
     /// Whether PIBT follows space-utilisation paths ([`Scatter`]).
     pub scatter: Scatter,
@@ -293,7 +298,8 @@ pub enum Scatter {
 pub enum Refine {
     /// LaCAM* as published (`none`).
     None,
-    /// An LNS that lowers the sum of costs (`lns`).
+    /// An LNS that lowers the sum of costs (`lns`); with the makespan objective, one that lowers
+    /// (makespan, sum of costs), as every setting but [`Refine::None`].
     Cost,
     /// With the sum-of-loss objective, an LNS that keeps only steps lowering the sum of loss
     /// (`lns_loss`); with the others as [`Refine::Cost`].
@@ -353,9 +359,9 @@ pub struct Report {
     /// LNS steps taken, and those that lowered what it lowers (0 without refinement).
     pub lns_steps: u64,
     pub lns_improvements: u64,
-    /// The LNS lowered the sum of loss (`refine=lns_loss`, or `auto` on a sparse instance),
-    /// not the sum of costs.
-    pub lns_lowers_loss: bool,
+    /// What the LNS lowered, when there was one: the sum of loss (`refine=lns_loss`, or `auto`
+    /// on a sparse instance), the makespan (`objective=makespan`) or the sum of costs.
+    pub lns_lowers: Option<Objective>,
     /// With scatter: seconds it took, and collisions left among its paths.
     pub scatter: Option<(f64, u64)>,
 }
@@ -395,7 +401,8 @@ impl Planner<MapfProblem> for Lacam {
 
     /// `first_solution_ms`, `first_cost`, `final_cost`, `objective`, `proven_optimal`,
     /// `configurations`, `restarts`, and with refinement `search_cost`, `lns_steps`,
-    /// `lns_improvements` and `lns_lowers` (`sum_of_loss` or `sum_of_costs`), of the last plan.
+    /// `lns_improvements` and `lns_lowers` (`sum_of_loss`, `sum_of_costs` or `makespan`), of
+    /// the last plan.
     fn notes(&self) -> serde_json::Map<String, serde_json::Value> {
         let mut m = serde_json::Map::new();
         if let Some(r) = self.report() {
@@ -411,12 +418,9 @@ impl Planner<MapfProblem> for Lacam {
                 m.insert("search_cost".into(), r.search_cost.into());
                 m.insert("lns_steps".into(), r.lns_steps.into());
                 m.insert("lns_improvements".into(), r.lns_improvements.into());
-                let lowers = if r.lns_lowers_loss {
-                    "sum_of_loss"
-                } else {
-                    "sum_of_costs"
-                };
-                m.insert("lns_lowers".into(), lowers.into());
+                if let Some(o) = r.lns_lowers {
+                    m.insert("lns_lowers".into(), o.name().into());
+                }
             }
             if let Some((secs, collisions)) = r.scatter {
                 m.insert("scatter_ms".into(), ((secs * 1e6).round() / 1e3).into());
@@ -575,10 +579,18 @@ fn search_within(
     // Sum of costs: the search's plan of least sum of costs so far (its best on sum of loss
     // need not be).
     let mut best_soc: Option<(u64, Vec<Vec<VertexId>>)> = None;
-    let refine =
-        lacam.anytime && lacam.refine != Refine::None && lacam.objective != Objective::Makespan;
+    let refine = lacam.anytime && lacam.refine != Refine::None;
     let soc = lacam.objective == Objective::SumOfCosts;
     let mut lns: Option<Lns> = None;
+    // Makespan: the LNS's time so far, when it began, and whether its plan reached the makespan
+    // lower bound (the longest distance), which proves it optimal.
+    let mut lns_spent = std::time::Duration::ZERO;
+    let mut lns_began = Instant::now();
+    let mut lns_optimal = false;
+    let makespan_bound = (0..goals.len())
+        .map(|i| u64::from(dist.get(i, starts[i])))
+        .max()
+        .unwrap_or(0);
     let mut iterations = 0u64;
     let mut throttle = mrpp_core::Throttle::new();
     while let Some(&top) = open.last() {
@@ -610,10 +622,14 @@ fn search_within(
                 note: format!("{configurations} configurations, {restarts} restarts, no plan yet"),
             });
         }
+        // With the makespan the search often proves the optimum soon (its bound, the longest
+        // distance, is tight), so the LNS gets at most half the time since the first plan.
         if let Some(l) = lns.as_mut()
             && iterations.is_multiple_of(LNS_EVERY)
+            && (lacam.objective != Objective::Makespan || 2 * lns_spent <= lns_began.elapsed())
         {
             {
+                let round_began = Instant::now();
                 let rounds = if lacam.threads > 1 {
                     LNS_STEPS * LNS_CHAIN_FACTOR
                 } else {
@@ -631,17 +647,18 @@ fn search_within(
                 if l.steps(rounds, ctx.deadline, tick) > 0 {
                     // What the LNS lowers (its key's first value), named as such.
                     let cost = l.key().0;
-                    let what = if l.lowers_loss() {
-                        "sum of loss"
-                    } else {
-                        "sum of costs"
-                    };
+                    let what = l.lowers().name().replace('_', " ");
                     ctx.report(Progress {
                         stage: "LaCAM* cost",
                         done: cost,
                         total: 0,
                         note: format!("LNS, {what} {cost}"),
                     });
+                }
+                lns_spent += round_began.elapsed();
+                if lacam.objective == Objective::Makespan && l.key().0 <= makespan_bound {
+                    lns_optimal = true;
+                    break;
                 }
             }
         }
@@ -669,16 +686,17 @@ fn search_within(
             }
             if refine {
                 let sparse = (goals.len() as f64) < AUTO_LOSS_BELOW * graph.num_vertices() as f64;
-                let loss = lacam.objective == Objective::SumOfLoss
-                    && match lacam.refine {
-                        Refine::Loss => true,
-                        Refine::Auto => sparse,
-                        Refine::Cost | Refine::None => false,
-                    };
+                let lowers = match (lacam.objective, lacam.refine) {
+                    (Objective::Makespan, _) => Objective::Makespan,
+                    (Objective::SumOfLoss, Refine::Loss) => Objective::SumOfLoss,
+                    (Objective::SumOfLoss, Refine::Auto) if sparse => Objective::SumOfLoss,
+                    _ => Objective::SumOfCosts,
+                };
                 lns = Some(
-                    Lns::new(graph, goals, &dist, s.paths_to(goal), ctx.seed, loss)
+                    Lns::new(graph, goals, &dist, s.paths_to(goal), ctx.seed, lowers)
                         .with_threads(lacam.threads),
                 );
+                lns_began = Instant::now();
             }
             ctx.report(Progress {
                 stage: "LaCAM* cost",
@@ -754,7 +772,7 @@ fn search_within(
     let (first_solution_secs, first_cost) = first.expect("set with the goal");
     // The search proves sum-of-loss (or makespan) optimality; a sum-of-loss optimum need not be
     // one of sum of costs, so that objective never claims it.
-    let proven_optimal = lacam.anytime && open.is_empty() && !soc;
+    let proven_optimal = lacam.anytime && (open.is_empty() || lns_optimal) && !soc;
     let mut paths = s.paths_to(goal);
     let search_cost = match best_soc {
         Some((c, p)) if soc => {
@@ -766,11 +784,15 @@ fn search_within(
     // The refined plan replaces the search's when it is better on the objective (sum of loss:
     // ties to the lower sum of costs).
     if let Some(l) = &lns
-        && !proven_optimal
+        && (!proven_optimal || lns_optimal)
     {
         let key = |p: &[Vec<VertexId>]| {
             let c = sum_of_costs(p, goals);
-            if soc { (c, 0) } else { (s.edge_costs_of(p), c) }
+            match lacam.objective {
+                Objective::SumOfCosts => (c, 0),
+                Objective::SumOfLoss => (s.edge_costs_of(p), c),
+                Objective::Makespan => (p.iter().map(|q| q.len() as u64 - 1).max().unwrap_or(0), c),
+            }
         };
         if key(l.paths()) < key(&paths) {
             paths = l.paths().to_vec();
@@ -792,7 +814,7 @@ fn search_within(
         search_cost,
         lns_steps: lns.as_ref().map_or(0, |l| l.counts().0),
         lns_improvements: lns.as_ref().map_or(0, |l| l.counts().1),
-        lns_lowers_loss: lns.as_ref().is_some_and(|l| l.lowers_loss()),
+        lns_lowers: lns.as_ref().map(|l| l.lowers()),
         scatter: scatter.as_ref().map(|(s, secs)| (*secs, s.counts().0)),
     };
     Ok((configs, report))
@@ -1427,7 +1449,11 @@ mod tests {
         let p = MapfProblem::on(&g, &inst, Rules::default());
         let loss = |plan: &Plan| plan.sum_of_loss(&inst.goals);
         for refine in [Refine::Cost, Refine::None, Refine::Loss, Refine::Auto] {
-            for objective in [Objective::SumOfLoss, Objective::SumOfCosts] {
+            for objective in [
+                Objective::SumOfLoss,
+                Objective::SumOfCosts,
+                Objective::Makespan,
+            ] {
                 let planner = Lacam {
                     refine,
                     ..Lacam::star(objective)
@@ -1438,13 +1464,19 @@ mod tests {
                 let what = format!("{objective:?}, refine {refine:?}: {r:?}");
                 let measured = match objective {
                     Objective::SumOfCosts => s.metrics.sum_of_costs,
-                    _ => loss(&s.plan),
+                    Objective::Makespan => s.metrics.makespan,
+                    Objective::SumOfLoss => loss(&s.plan),
                 };
                 assert_eq!(r.final_cost, measured, "{what}");
                 assert!(r.first_cost >= r.final_cost, "{what}");
                 if objective == Objective::SumOfCosts {
                     assert!(!r.proven_optimal, "{what}");
                     assert!(r.search_cost >= r.final_cost, "{what}");
+                }
+                // With the makespan every refinement setting but `none` lowers the makespan.
+                if objective == Objective::Makespan {
+                    let want = (refine != Refine::None).then_some(Objective::Makespan);
+                    assert_eq!(r.lns_lowers, want, "{what}");
                 }
             }
         }
@@ -1481,14 +1513,14 @@ mod tests {
             solve(&planner, &p, &ctx).unwrap();
             // The LNS is set up at the first plan, whatever comes after.
             let r = planner.report().unwrap();
-            assert_eq!(r.lns_lowers_loss, lowers_loss, "{n} agents: {r:?}");
+            let want = if lowers_loss {
+                Objective::SumOfLoss
+            } else {
+                Objective::SumOfCosts
+            };
+            assert_eq!(r.lns_lowers, Some(want), "{n} agents: {r:?}");
             if r.lns_steps > 0 {
-                let want = if lowers_loss {
-                    "sum_of_loss"
-                } else {
-                    "sum_of_costs"
-                };
-                assert_eq!(planner.notes()["lns_lowers"], want);
+                assert_eq!(planner.notes()["lns_lowers"], want.name());
             }
         }
     }
