@@ -582,15 +582,12 @@ fn search_within(
     let refine = lacam.anytime && lacam.refine != Refine::None;
     let soc = lacam.objective == Objective::SumOfCosts;
     let mut lns: Option<Lns> = None;
-    // Makespan: the LNS's time so far, when it began, and whether its plan reached the makespan
-    // lower bound (the longest distance), which proves it optimal.
+    // Makespan: the LNS's time so far, when it began, the makespan's lower bound (the longest
+    // distance, set with the LNS) and whether the LNS's plan reached it, which proves it optimal.
     let mut lns_spent = std::time::Duration::ZERO;
     let mut lns_began = Instant::now();
+    let mut makespan_bound = 0;
     let mut lns_optimal = false;
-    let makespan_bound = (0..goals.len())
-        .map(|i| u64::from(dist.get(i, starts[i])))
-        .max()
-        .unwrap_or(0);
     let mut iterations = 0u64;
     let mut throttle = mrpp_core::Throttle::new();
     while let Some(&top) = open.last() {
@@ -697,6 +694,10 @@ fn search_within(
                         .with_threads(lacam.threads),
                 );
                 lns_began = Instant::now();
+                makespan_bound = (0..goals.len())
+                    .map(|i| u64::from(dist.get(i, starts[i])))
+                    .max()
+                    .unwrap_or(0);
             }
             ctx.report(Progress {
                 stage: "LaCAM* cost",

@@ -131,8 +131,8 @@ fn trimmed(mut p: Vec<VertexId>) -> Vec<VertexId> {
 
 /// Adds `agent`, enrolled nowhere, to the visitors of the vertices of `path`. Within one call
 /// only `agent` is added, so a vertex it already visited has it last in its list: a check of
-/// the last entry, not a scan of the list (hundreds of agents a vertex with 10,000 agents on
-/// warehouse-20-40-10-2-1, where scanning took seconds per plan).
+/// the last entry, not a scan of the list (with 10,000 agents on warehouse-20-40-10-2-1 some 17
+/// million path steps fall on 22,599 vertices, so the lists are long).
 fn enrol(visitors: &mut [Vec<u32>], agent: usize, path: &[VertexId]) {
     let a = agent as u32;
     for &v in path {
@@ -446,8 +446,9 @@ impl Chain {
     }
 
     /// Agent-based neighbourhood: the most delayed agent (objective minus goal distance) of a
-    /// sample of 32, with agents whose paths visit the cells of one of its shortest routes;
-    /// empty when no sampled agent is delayed.
+    /// sample of 32 (with the makespan: a latest-arriving agent, drawn among them), with agents
+    /// whose paths visit the cells of one of its shortest routes; empty when that agent is not
+    /// delayed.
     fn agent_based(&mut self, cx: &Shared) -> Vec<usize> {
         let n = self.paths.len();
         let delay = |i: usize| {
