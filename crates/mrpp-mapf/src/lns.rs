@@ -1,4 +1,4 @@
-//! Large-neighbourhood search that lowers a valid plan's sum of costs (J. Li, Z. Chen, D. Harabor,
+//! Large-neighbourhood search that lowers a valid plan's cost (J. Li, Z. Chen, D. Harabor,
 //! P. J. Stuckey, S. Koenig, "Anytime multi-agent path finding via large neighborhood search",
 //! IJCAI 2021): each step takes up to `k` agents' paths out, re-plans those agents one at a time
 //! in a random order with safe-interval path planning ([`sipp`]) against everyone else's paths,
@@ -6,7 +6,7 @@
 //! LaCAM*'s anytime phase runs it between its own search rounds (the role of the refiners of
 //! lacam3, Okumura, AAMAS 2024).
 //!
-//! **What it lowers** ([`Lns::new`]'s `loss`): the sum of costs, or the sum of loss (lacam3's
+//! **What it lowers** ([`Lns::new`]'s `lowers`): the sum of costs, or the sum of loss (lacam3's
 //! objective: each agent's steps except those it stays on its goal, so an agent that waits on its
 //! goal and steps aside later is not charged for the waits). With sum of loss a step keeps the
 //! new paths when their summed loss is lower, or equal with a sum of costs not larger, and the
@@ -214,8 +214,8 @@ impl<'a> Lns<'a> {
         self
     }
 
-    /// The current plan's cost on what it lowers: (sum of loss, sum of costs) with `loss`, else
-    /// (sum of costs, 0); lower is better.
+    /// The current plan's cost on what it lowers: (sum of costs, 0), (sum of loss, sum of costs)
+    /// or (makespan, sum of costs); lower is better.
     pub(crate) fn key(&self) -> (u64, u64) {
         self.key_of(&self.main.paths, 0..self.main.paths.len())
     }
