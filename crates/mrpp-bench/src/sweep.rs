@@ -35,9 +35,8 @@
 //! 2^31), `{time_limit}` (seconds) and `{out}` (a fresh file) are filled in (paths shell-quoted)
 //! and the command runs under `sh -c` in its own process group, which is killed after
 //! `peer_timeout` seconds (default: twice the time limit plus 10 s; recorded as `time_limit`).
-//! Its result is
-//! read, checked to be for the same agents, and validated like mrpp's own plans; its runtime is
-//! the file's `comp_time` (ms) when present, else the command's wall time. A peer's missing or
+//! Its result is read, checked to be for the same agents, and validated like mrpp's own plans;
+//! its runtime is the file's `comp_time` (ms) when present, else the command's wall time. A peer's missing or
 //! unreadable result is `gave_up`; a result the validator rejects is `invalid` (a peer's bug is
 //! recorded, not fatal).
 //!

@@ -44,6 +44,18 @@ fn without_timing(path: &Path) -> String {
         .join("\n")
 }
 
+/// The value of column `name` (by `records.csv`'s header, the first line of `records`) in `row`.
+fn field<'a>(records: &str, row: &'a str, name: &str) -> &'a str {
+    let header = records.lines().next().unwrap_or_default();
+    let at = header
+        .split(',')
+        .position(|h| h == name)
+        .unwrap_or_else(|| panic!("no column {name} in {header}"));
+    row.split(',')
+        .nth(at)
+        .unwrap_or_else(|| panic!("no {name} in {row}"))
+}
+
 fn s(p: &Path) -> &str {
     p.to_str().unwrap()
 }
@@ -208,12 +220,8 @@ fn a_peer_command_joins_the_sweep_and_an_interrupted_run_resumes() {
     );
     // Issue 31's quality columns, on every solved run of both solvers: the sum of loss between
     // the lower bound and the sum of costs, the ratios, the first plan within the run, memory.
-    let header: Vec<&str> = records.lines().next().unwrap().split(',').collect();
     let col = |row: &str, name: &str| -> f64 {
-        let at = header.iter().position(|h| *h == name).unwrap();
-        row.split(',')
-            .nth(at)
-            .unwrap()
+        field(&records, row, name)
             .parse()
             .unwrap_or_else(|_| panic!("{name} in {row}"))
     };
@@ -615,13 +623,11 @@ fn lacam_star_with_two_threads_keeps_to_its_time_limit_in_a_sweep() {
         0,
     );
     let records = std::fs::read_to_string(out.join("records.csv")).unwrap();
-    let header: Vec<&str> = records.lines().next().unwrap().split(',').collect();
-    let at = header.iter().position(|h| *h == "runtime_ms").unwrap();
     let rows: Vec<&str> = records.lines().skip(1).collect();
     assert_eq!(rows.len(), 3, "{records}");
     for row in rows {
         assert!(row.contains(",solved,"), "{row}");
-        let ms: f64 = row.split(',').nth(at).unwrap().parse().unwrap();
+        let ms: f64 = field(&records, row, "runtime_ms").parse().unwrap();
         // One second of search, and a generous allowance for a loaded machine; a nested run
         // would add at least another second.
         assert!(ms < 1_900.0, "{ms} ms: {row}");
@@ -659,12 +665,9 @@ fn a_peer_is_killed_after_peer_timeout() {
         0,
     );
     let records = std::fs::read_to_string(out.join("records.csv")).unwrap();
-    let mut lines = records.lines();
-    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
-    let row: Vec<&str> = lines.next().expect("one record").split(',').collect();
-    assert_eq!(row[col("status")], "time_limit", "{records}");
-    let ms: f64 = row[col("runtime_ms")].parse().unwrap();
+    let row = records.lines().nth(1).expect("one record");
+    assert_eq!(field(&records, row, "status"), "time_limit", "{records}");
+    let ms: f64 = field(&records, row, "runtime_ms").parse().unwrap();
     assert!((1000.0..11_000.0).contains(&ms), "killed after {ms} ms");
     std::fs::write(&path, config(0.25)).unwrap();
     let (_, err) = mrpp_exits(

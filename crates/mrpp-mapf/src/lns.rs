@@ -271,17 +271,8 @@ impl<'a> Lns<'a> {
         }
     }
 
-    /// One destroy-and-repair step of the first chain; true when the plan's cost
-    /// ([`Self::key`]) dropped.
-    pub(crate) fn step(&mut self, deadline: Deadline) -> bool {
-        let lowered = self.main.step(&self.cx, deadline);
-        self.main.log.clear();
-        self.improved += u64::from(lowered);
-        lowered
-    }
-
     /// `rounds` steps in each chain (module doc), then a merge; the number of steps that lowered
-    /// the plan's cost and stood. With one thread, `rounds` [`Lns::step`]s. A chain stops early
+    /// the plan's cost and stood (with one thread, `rounds` steps, no merge). A chain stops early
     /// once `deadline` has passed. `tick(k)` runs on the calling thread after its chain's `k`-th
     /// step (for progress reports: a round of several threads can take seconds).
     pub(crate) fn steps(
@@ -290,21 +281,7 @@ impl<'a> Lns<'a> {
         deadline: Deadline,
         mut tick: impl FnMut(usize),
     ) -> u64 {
-        if self.others.is_empty() {
-            let mut lowered = 0;
-            for k in 1..=rounds {
-                if deadline.expired() {
-                    break;
-                }
-                lowered += u64::from(self.step(deadline));
-                tick(k);
-            }
-            return lowered;
-        }
         let cx = &self.cx;
-        // Plain scoped threads, not a rayon pool: a rayon worker that waits for another pool
-        // runs its own pool's queued jobs meanwhile, which in `mrpp bench` are other runs,
-        // started inside this one.
         let run = |c: &mut Chain, tick: &mut dyn FnMut(usize)| {
             let mut lowered = 0;
             for k in 1..=rounds {
@@ -316,6 +293,16 @@ impl<'a> Lns<'a> {
             }
             lowered
         };
+        if self.others.is_empty() {
+            // One chain: its steps stand as they are; nothing to merge.
+            let lowered = run(&mut self.main, &mut tick);
+            self.main.log.clear();
+            self.improved += lowered;
+            return lowered;
+        }
+        // Plain scoped threads, not a rayon pool: a rayon worker that waits for another pool
+        // runs its own pool's queued jobs meanwhile, which in `mrpp bench` are other runs,
+        // started inside this one.
         let main = &mut self.main;
         let mut lowered = std::thread::scope(|sc| {
             let handles: Vec<_> = self
@@ -690,7 +677,8 @@ impl View<'_> {
         let mut new: Vec<Vec<VertexId>> = Vec::with_capacity(group.len());
         for (k, &i) in group.iter().enumerate() {
             let rest: u64 = lower[k + 1..].iter().sum();
-            // The makespan bounds each path on its own (no sum to share out).
+            // The makespan bounds each path on its own (no sum to share out): none may arrive
+            // after the plan's makespan (`old_cost`, taken with every other agent's latest).
             let budget = if self.lowers == Objective::Makespan {
                 old_cost
             } else {
@@ -703,7 +691,6 @@ impl View<'_> {
             let h = move |v: VertexId| dist.get(i, v);
             let budget = u32::try_from(budget).unwrap_or(u32::MAX);
             // A path's loss is at most its cost: the budget bounds its time only without loss.
-            // For the makespan, no path may arrive after the group's latest.
             let q = Query {
                 graph: self.graph,
                 start: self.paths[i][0],
@@ -713,7 +700,7 @@ impl View<'_> {
                 max_time: match self.lowers {
                     Objective::SumOfLoss => makespan + SLACK,
                     Objective::SumOfCosts => budget.min(makespan + SLACK),
-                    Objective::Makespan => u32::try_from(old_cost).unwrap_or(u32::MAX),
+                    Objective::Makespan => budget,
                 },
                 window: None,
                 deadline,
